@@ -1,0 +1,58 @@
+"""Solid particle-steps per second of the Gray 2001 solid at about 10^3, 10^4 and 10^5 particles.
+
+The cantilever builder scaled up (a thicker, wider, longer beam at 1 mm spacing, swinging in its first mode),
+so the numbers are those of real stepping: every pass, the neighbour rebuilds, the watchdog. Run with
+`python -m bench.solid_throughput` (or `make bench`); do not run two benchmarks at once on a 2-core machine.
+"""
+import argparse
+import json
+import time
+
+import numba
+
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.simulation import Simulation
+
+# (length, width, thickness) in m at 1 mm spacing; the clamp adds its layers on top of the beam count.
+SIZES = {"1e3": (0.020, 0.006, 0.008), "1e4": (0.040, 0.016, 0.016), "1e5": (0.100, 0.032, 0.032)}
+
+
+def measure(label, steps_target=2.0e7, min_seconds=5.0):
+    length, width, thickness = SIZES[label]
+    spec = load_scene("cantilever", [f"geometry.length={length}", f"geometry.width={width}",
+                                     f"geometry.thickness={thickness}", "geometry.clamp_margin=1",
+                                     "output.snapshot_interval=0"])
+    sim = Simulation(spec)
+    sim.step()  # compile and warm up
+    n = sim.particle_count
+    start_steps, t0 = sim.solid_steps, time.perf_counter()
+    while True:
+        sim.step()
+        elapsed = time.perf_counter() - t0
+        done = (sim.solid_steps - start_steps) * n
+        if done >= steps_target or elapsed >= min_seconds:
+            break
+    pairs = sim.solid_neighbours.pairs / n
+    return {"label": label, "particles": n, "pairs_per_particle": round(pairs, 1),
+            "steps": sim.solid_steps - start_steps, "seconds": round(elapsed, 3),
+            "particle_steps_per_second": done / elapsed, "threads": numba.get_num_threads(),
+            "neighbour_builds": sim.neighbour_builds}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--sizes", nargs="*", default=list(SIZES))
+    parser.add_argument("--seconds", type=float, default=5.0)
+    args = parser.parse_args(argv)
+    results = []
+    for label in args.sizes:
+        r = measure(label, min_seconds=args.seconds)
+        results.append(r)
+        print(f"solid {r['particles']:>7d} particles ({r['pairs_per_particle']:.0f} pairs each): "
+              f"{r['particle_steps_per_second'] / 1e6:6.3f} M particle-steps/s over {r['steps']} steps, "
+              f"{r['threads']} threads", flush=True)
+    return results
+
+
+if __name__ == "__main__":
+    print(json.dumps(main(), indent=1))

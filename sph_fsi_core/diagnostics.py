@@ -1,0 +1,85 @@
+"""Energies and the divergence watchdog.
+
+The watchdog runs after every outer step. Checks, in order: non-finite state, density out of [0.5, 2] rho0,
+particles faster than watchdog.max_speed, particles outside the scene's domain, and (scenes with no energy
+input) kinetic + strain energy above watchdog.energy_growth times its initial value. The first that trips raises
+Diverged naming the check, the simulated time and the particles involved.
+"""
+import numpy as np
+from numba import njit
+
+
+class Diverged(RuntimeError):
+    """The run left the physically sensible state: `check` tripped at `time` on `particles` (solid indices)."""
+
+    def __init__(self, check, time, particles, detail):
+        self.check = check
+        self.time = time
+        self.particles = list(int(i) for i in particles[:10])
+        self.detail = detail
+        super().__init__(f"diverged: {check} at t = {time:.6g} s: {detail}")
+
+    def as_dict(self):
+        return {"check": self.check, "time": self.time, "particles": self.particles, "detail": self.detail}
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def kinetic_energy(mass, vel, movable):
+    """Sum of m v^2 / 2 over moving particles."""
+    total = 0.0
+    for a in range(mass.shape[0]):
+        if movable[a]:
+            total += 0.5 * mass[a] * (vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2)
+    return total
+
+
+def _where(mask):
+    return np.flatnonzero(mask)
+
+
+class Watchdog:
+    def __init__(self, sim, domain_lo, domain_hi):
+        self.sim = sim
+        self.lo = domain_lo
+        self.hi = domain_hi
+        self.conservative = getattr(sim.builder, "CONSERVATIVE", False)
+        energies = sim.energies()
+        self.initial_energy = sum(energies.values())
+
+    def _trip(self, check, bad, detail):
+        s = self.sim.solid
+        idx = bad[:3]
+        where = "; ".join(f"particle {i} (initially at {np.array2string(self.sim._initial_positions[i], precision=4)}"
+                          f" m)" for i in idx)
+        raise Diverged(check, self.sim.time, bad, f"{detail}; {len(bad)} particle(s), e.g. {where}")
+
+    def check(self):
+        sim = self.sim
+        s = sim.solid
+        v = sim.spec.values
+        if s is None:
+            return
+        finite = (np.isfinite(s.pos).all(axis=1) & np.isfinite(s.vel).all(axis=1)
+                  & np.isfinite(s.stress).all(axis=1) & np.isfinite(s.rho))
+        if not finite.all():
+            self._trip("non-finite state", _where(~finite), "position, velocity, density or stress is NaN/inf")
+        ratio = s.rho / v["solid.density"]
+        bad = _where((ratio < 0.5) | (ratio > 2.0))
+        if len(bad):
+            self._trip("density", bad, f"solid density ratio {ratio[bad[0]]:.3g} outside [0.5, 2]")
+        speed = np.sqrt((s.vel ** 2).sum(axis=1))
+        bad = _where(speed > v["watchdog.max_speed"])
+        if len(bad):
+            self._trip("speed", bad, f"speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = "
+                                     f"{v['watchdog.max_speed']:g} m/s")
+        if self.lo is not None:
+            bad = _where(((s.pos < self.lo) | (s.pos > self.hi)).any(axis=1))
+            if len(bad):
+                self._trip("left the domain", bad, f"outside the box {self.lo} .. {self.hi} m")
+        if self.conservative and self.initial_energy > 0.0:
+            energy = sum(sim.energies().values())
+            limit = v["watchdog.energy_growth"] * self.initial_energy
+            if energy > limit:
+                top = np.argsort(-speed)[:3]
+                self._trip("energy growth", top, f"kinetic + strain energy {energy:.4g} J above "
+                                                 f"{v['watchdog.energy_growth']:g} x its initial {self.initial_energy:.4g} J")

@@ -1,0 +1,254 @@
+"""Cell-linked-list neighbour search (Numba) and the per-pair kernel cache.
+
+A `NeighbourList` holds, for each target particle a, the source particles b within the cutoff
+(2h plus a skin) in compressed rows: `start[a]:start[a+1]` index `index`. A full list has every pair in both
+rows (and a's own pair), so a pass over it is a gather, race-free in parallel. A half list (targets and sources
+the same set) keeps each pair once, b > a, no self pair: a pass over it evaluates each pair once and adds to both
+particles, through per-chunk buffers (see solid_gray2001.py); that halves the kernel and pair arithmetic. The skin lets a list serve many steps: it is rebuilt only once some particle
+has moved more than half the skin since the build (Verlet's criterion).
+
+Periodicity: an axis with a positive entry in `period` wraps (minimum image); the period must be at least
+twice the cutoff so that one image is enough.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernels import cubic_spline_f, cubic_spline_w
+
+MAX_CELLS_PER_AXIS = 1024
+MIN_CELL_BUDGET = 1 << 20   # the grid may hold max(MIN_CELL_BUDGET, 8 N) cells
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def _cell_coordinates(pos, lo, cell_size, ncell, period):
+    """Integer cell coordinates of each point: wrapped on periodic axes, clamped into the grid on open ones.
+
+    Clamping is safe: a point beyond the grid's edge lands in the edge cell, and every point within the cutoff
+    of it is in that cell or the next one in, because cells are at least one cutoff wide.
+    """
+    n = pos.shape[0]
+    cell = np.empty((n, 3), dtype=np.int64)
+    for a in range(n):
+        for k in range(3):
+            c = int(math.floor((pos[a, k] - lo[k]) / cell_size[k]))
+            if period[k] > 0.0:
+                c = c % ncell[k]
+            elif c < 0:
+                c = 0
+            elif c >= ncell[k]:
+                c = ncell[k] - 1
+            cell[a, k] = c
+    return cell
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def _bin_sources(cell, ncell):
+    """Counting sort of source points by linear cell id: returns (cell_start, order)."""
+    n = cell.shape[0]
+    ncells = ncell[0] * ncell[1] * ncell[2]
+    counts = np.zeros(ncells + 1, dtype=np.int64)
+    linear = np.empty(n, dtype=np.int64)
+    for b in range(n):
+        lid = (cell[b, 0] * ncell[1] + cell[b, 1]) * ncell[2] + cell[b, 2]
+        linear[b] = lid
+        counts[lid + 1] += 1
+    for c in range(ncells):
+        counts[c + 1] += counts[c]
+    fill = counts[:-1].copy()
+    order = np.empty(n, dtype=np.int64)
+    for b in range(n):
+        order[fill[linear[b]]] = b
+        fill[linear[b]] += 1
+    return counts, order
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _wrapped_cells(c, n, periodic, out):
+    """Neighbouring cell coordinates along one axis (c-1, c, c+1), wrapped or cut at the edges; returns count."""
+    m = 0
+    for d in range(-1, 2):
+        cc = c + d
+        if periodic:
+            cc = cc % n
+        elif cc < 0 or cc >= n:
+            continue
+        duplicate = False
+        for k in range(m):
+            if out[k] == cc:
+                duplicate = True
+        if not duplicate:
+            out[m] = cc
+            m += 1
+    return m
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def minimum_image(d, period):
+    """Shortest periodic separation along one axis (period <= 0: not periodic)."""
+    if period > 0.0:
+        return d - period * math.floor(d / period + 0.5)
+    return d
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index, fill):
+    """One pass over candidate pairs: counts per target (fill=False) or writes them into `index` (fill=True).
+
+    half: targets and sources are the same set and only pairs with b > a are kept.
+    """
+    cutoff2 = cutoff * cutoff
+    for a in prange(targets.shape[0]):
+        cx = np.empty(3, dtype=np.int64)
+        cy = np.empty(3, dtype=np.int64)
+        cz = np.empty(3, dtype=np.int64)
+        nx = _wrapped_cells(tcell[a, 0], ncell[0], period[0] > 0.0, cx)
+        ny = _wrapped_cells(tcell[a, 1], ncell[1], period[1] > 0.0, cy)
+        nz = _wrapped_cells(tcell[a, 2], ncell[2], period[2] > 0.0, cz)
+        count = 0
+        slot = start[a] if fill else 0
+        for ix in range(nx):
+            for iy in range(ny):
+                for iz in range(nz):
+                    lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
+                    for s in range(cell_start[lid], cell_start[lid + 1]):
+                        b = order[s]
+                        if half and b <= a:
+                            continue
+                        dx = minimum_image(targets[a, 0] - sources[b, 0], period[0])
+                        dy = minimum_image(targets[a, 1] - sources[b, 1], period[1])
+                        dz = minimum_image(targets[a, 2] - sources[b, 2], period[2])
+                        if dx * dx + dy * dy + dz * dz < cutoff2:
+                            if fill:
+                                index[slot] = b
+                                slot += 1
+                            count += 1
+        if not fill:
+            start[a + 1] = count
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def pair_kernel_values(targets, sources, start, index, h, period, w, f):
+    """Pair cache for one configuration: W_ab and F_ab = (dW/dr)/r (eq. (1)'s kernel), r_ab by minimum image."""
+    for a in prange(targets.shape[0]):
+        for s in range(start[a], start[a + 1]):
+            b = index[s]
+            dx = minimum_image(targets[a, 0] - sources[b, 0], period[0])
+            dy = minimum_image(targets[a, 1] - sources[b, 1], period[1])
+            dz = minimum_image(targets[a, 2] - sources[b, 2], period[2])
+            r = math.sqrt(dx * dx + dy * dy + dz * dz)
+            w[s] = cubic_spline_w(r, h)
+            f[s] = cubic_spline_f(r, h)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def max_displacement(pos, pos_at_build):
+    """Largest distance any point has moved since the list was built (Verlet skin test)."""
+    n = pos.shape[0]
+    d2 = np.zeros(n)
+    for a in prange(n):
+        dx = pos[a, 0] - pos_at_build[a, 0]
+        dy = pos[a, 1] - pos_at_build[a, 1]
+        dz = pos[a, 2] - pos_at_build[a, 2]
+        d2[a] = dx * dx + dy * dy + dz * dz
+    return math.sqrt(d2.max()) if n > 0 else 0.0
+
+
+def _grid(points, cutoff, period, box_lo, box_hi):
+    """Cell grid over the points (periodic axes: over the box), cells at least `cutoff` wide.
+
+    The number of cells is bounded by max(MIN_CELL_BUDGET, 8 N): a particle flung far away (a diverging run)
+    coarsens the grid on the open axes instead of allocating a huge one.
+    """
+    lo = points.min(axis=0) if len(points) else np.zeros(3)
+    hi = points.max(axis=0) if len(points) else np.zeros(3)
+    cell_size = np.empty(3)
+    ncell = np.empty(3, dtype=np.int64)
+    for k in range(3):
+        if period[k] > 0.0:
+            lo[k], hi[k] = box_lo[k], box_hi[k]
+            ncell[k] = max(int(math.floor(period[k] / cutoff)), 1)
+        else:
+            extent = max(hi[k] - lo[k], cutoff)
+            ncell[k] = min(max(int(math.floor(extent / cutoff)), 1), MAX_CELLS_PER_AXIS)
+    budget = max(MIN_CELL_BUDGET, 8 * len(points))
+    while int(np.prod(ncell)) > budget:
+        open_axes = [k for k in range(3) if period[k] <= 0.0 and ncell[k] > 1]
+        if not open_axes:
+            break
+        k = max(open_axes, key=lambda axis: ncell[axis])
+        ncell[k] = max(ncell[k] // 2, 1)
+    for k in range(3):
+        if period[k] > 0.0:
+            cell_size[k] = period[k] / ncell[k]
+        else:
+            cell_size[k] = max(max(hi[k] - lo[k], cutoff) / ncell[k], cutoff)
+    return lo, cell_size, ncell
+
+
+class NeighbourList:
+    """Neighbours of `targets` among `sources` within `radius` + `skin`, reusable until particles move skin/2.
+
+    `period` (3,) gives the periodic length per axis (0: open); `box_lo`/`box_hi` locate periodic axes.
+    """
+
+    def __init__(self, radius, skin, period=None, box_lo=None, box_hi=None, half=False):
+        self.half = bool(half)
+        self.radius = float(radius)
+        self.skin = float(skin)
+        self.cutoff = self.radius + self.skin
+        self.period = np.zeros(3) if period is None else np.asarray(period, dtype=np.float64)
+        self.box_lo = np.zeros(3) if box_lo is None else np.asarray(box_lo, dtype=np.float64)
+        self.box_hi = np.zeros(3) if box_hi is None else np.asarray(box_hi, dtype=np.float64)
+        for k in range(3):
+            if self.period[k] > 0.0 and self.period[k] < 2.0 * self.cutoff:
+                raise ValueError(
+                    f"periodic length {self.period[k]:.6g} m along axis {'xyz'[k]} is below twice the "
+                    f"neighbour cutoff ({2 * self.cutoff:.6g} m); widen the periodic slab")
+        self.start = np.zeros(1, dtype=np.int64)
+        self.index = np.zeros(0, dtype=np.int32)
+        self.builds = 0
+        self._targets_at_build = None
+        self._sources_at_build = None
+
+    def build(self, targets, sources):
+        """Rebuild the lists for the current positions."""
+        lo, cell_size, ncell = _grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
+        scell = _cell_coordinates(sources, lo, cell_size, ncell, self.period)
+        tcell = _cell_coordinates(targets, lo, cell_size, ncell, self.period)
+        cell_start, order = _bin_sources(scell, ncell)
+        start = np.zeros(len(targets) + 1, dtype=np.int64)
+        dummy = np.zeros(0, dtype=np.int32)
+        if self.half and sources is not targets:
+            raise ValueError("a half neighbour list needs targets and sources to be the same array")
+        _scan_pairs(targets, sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half, start,
+                    dummy, False)
+        np.cumsum(start, out=start)
+        index = np.empty(start[-1], dtype=np.int32)
+        _scan_pairs(targets, sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half, start,
+                    index, True)
+        self.start, self.index = start, index
+        self._targets_at_build = targets.copy()
+        self._sources_at_build = None if sources is targets else sources.copy()
+        self.builds += 1
+
+    def is_stale(self, targets, sources):
+        """True once some target or source has moved more than half the skin since the last build."""
+        if self._targets_at_build is None or len(targets) != len(self._targets_at_build):
+            return True
+        moved = max_displacement(targets, self._targets_at_build)
+        if self._sources_at_build is not None:
+            moved = max(moved, max_displacement(sources, self._sources_at_build))
+        return moved > 0.5 * self.skin
+
+    def update(self, targets, sources):
+        """Rebuild if stale; returns True when it rebuilt."""
+        if self.is_stale(targets, sources):
+            self.build(targets, sources)
+            return True
+        return False
+
+    @property
+    def pairs(self):
+        return int(self.start[-1])

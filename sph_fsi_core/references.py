@@ -1,0 +1,95 @@
+"""Analytic and experimental references the scenes are judged against.
+
+Data files live in `reference_data/` (copies of the project's shared reference set, each with its source in its
+header; test_scene.py checks the copies against the originals when those are present).
+"""
+import csv
+import io
+import math
+from functools import lru_cache
+from pathlib import Path
+
+DATA_DIR = Path(__file__).resolve().parent / "reference_data"
+
+
+def read_reference_csv(name):
+    """Rows of a reference CSV as dicts of floats (empty cells: None), skipping '#' comment lines."""
+    lines = [ln for ln in (DATA_DIR / name).read_text().splitlines() if not ln.startswith("#")]
+    rows = []
+    for row in csv.DictReader(io.StringIO("\n".join(lines))):
+        rows.append({k: (float(v) if v not in ("", None) else None) for k, v in row.items()})
+    return rows
+
+
+@lru_cache(maxsize=None)
+def clamped_free_mode_kl(mode=1):
+    """Root k L of cos(kL) cosh(kL) = -1, eq. (14) (first mode: 1.87510...), by Newton from the asymptote."""
+    x = (mode - 0.5) * math.pi if mode > 1 else 1.875
+    for _ in range(50):
+        g = math.cos(x) * math.cosh(x) + 1.0
+        dg = -math.sin(x) * math.cosh(x) + math.cos(x) * math.sinh(x)
+        step = g / dg
+        x -= step
+        if abs(step) < 1e-15:
+            break
+    return x
+
+
+def cantilever_mode_velocity(x, length, tip_velocity):
+    """Eqs. (12)-(13): the first bending mode's velocity profile along the beam, equal to tip_velocity at x = L."""
+    import numpy as np
+    kl = clamped_free_mode_kl(1)
+    k = kl / length
+    m = math.sin(kl) + math.sinh(kl)
+    n = math.cos(kl) + math.cosh(kl)
+    q = 2.0 * (math.cos(kl) * math.sinh(kl) - math.sin(kl) * math.cosh(kl))
+    kx = k * np.asarray(x)
+    return tip_velocity / q * (m * (np.cos(kx) - np.cosh(kx)) - n * (np.sin(kx) - np.sinh(kx)))
+
+
+def beam_theory_frequency(length, thickness, young_modulus, density):
+    """Euler-Bernoulli first bending mode of a clamped-free beam: f = (k^2 / 2 pi) H sqrt(E / (12 rho))."""
+    k = clamped_free_mode_kl(1) / length
+    return k * k / (2.0 * math.pi) * thickness * math.sqrt(young_modulus / (12.0 * density))
+
+
+def plate_frequency_eq15(length, thickness, young_modulus, poisson_ratio, density):
+    """Satake et al. eq. (15), the plane-strain plate formula: f = H k^2 / (4 pi) sqrt(E / (3 rho (1 - nu^2)))."""
+    k = clamped_free_mode_kl(1) / length
+    return thickness * k * k / (4.0 * math.pi) * math.sqrt(
+        young_modulus / (3.0 * density * (1.0 - poisson_ratio ** 2)))
+
+
+# The geometry and material of reference_data/cantilever_frequencies.csv (its header).
+_FE_TABLE_CASE = dict(thickness=0.004, width=0.006, young_modulus=1.859e6, poisson_ratio=0.49, density=1000.0)
+
+
+def fe3d_frequency(length, thickness, width, young_modulus, poisson_ratio, density):
+    """3D linear-elasticity first vertical bending frequency from cantilever_frequencies.csv, or (None, why).
+
+    The table is for one cross-section, nu and E/rho; frequencies of a linear elastic body scale exactly as
+    sqrt(E/rho) at fixed geometry and nu, so other E and rho are scaled. L = 40 mm uses the mesh-extrapolated
+    value; other lengths the 1 mm quadratic-hexahedron value (about 0.5 % high at L = 40 mm, per the file).
+    """
+    same = (abs(thickness - _FE_TABLE_CASE["thickness"]) < 1e-9 and abs(width - _FE_TABLE_CASE["width"]) < 1e-9
+            and abs(poisson_ratio - _FE_TABLE_CASE["poisson_ratio"]) < 1e-9)
+    if not same:
+        return None, "no 3D reference for this cross-section / Poisson ratio"
+    for row in read_reference_csv("cantilever_frequencies.csv"):
+        if abs(row["L_mm"] * 1e-3 - length) < 1e-9:
+            scale = math.sqrt((young_modulus / density)
+                              / (_FE_TABLE_CASE["young_modulus"] / _FE_TABLE_CASE["density"]))
+            if row["fe3d_extrapolated_Hz"] is not None:
+                return row["fe3d_extrapolated_Hz"] * scale, "fe3d_extrapolated"
+            return row["fe3d_1mm_Hz"] * scale, "fe3d_1mm"
+    return None, "no 3D reference for this length"
+
+
+def cantilever_references(length, thickness, width, young_modulus, poisson_ratio, density):
+    """All three references for the cantilever's first vertical mode and which one judges the run."""
+    fe, label = fe3d_frequency(length, thickness, width, young_modulus, poisson_ratio, density)
+    eb = beam_theory_frequency(length, thickness, young_modulus, density)
+    eq15 = plate_frequency_eq15(length, thickness, young_modulus, poisson_ratio, density)
+    judged = ("fe3d", fe, label) if fe is not None else ("euler_bernoulli", eb, label)
+    return {"fe3d_hz": fe, "fe3d_source": label, "euler_bernoulli_hz": eb, "eq15_hz": eq15,
+            "judged_against": judged[0], "reference_hz": judged[1]}

@@ -1,0 +1,203 @@
+"""Scenes: strict YAML loading, `--set` overrides, and the resolved settings a builder turns into particles.
+
+A scene file is nested YAML (`section: {key: value}`) in SI units, z up. Resolution order: schema defaults,
+then the builder's defaults, then the file, then overrides. Unknown keys, wrong types, out-of-range values
+and duplicate keys are SceneErrors naming the key.
+"""
+import os
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import yaml
+
+from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError
+from .scenes import BUILDERS, DEFAULT_SCENE
+
+__all__ = ["SceneError", "SceneSpec", "load_scene", "builtin_scene_path", "builtin_scenes", "parse_override"]
+
+
+class _StrictLoader(yaml.SafeLoader):
+    """SafeLoader with YAML 1.2 floats (so 1.859e6 is a number, not a string) and no duplicate keys."""
+
+
+_FLOAT_RE = re.compile(r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
+    |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
+    |\.[0-9_]+(?:[eE][-+]?[0-9]+)?
+    |[-+]?\.(?:inf|Inf|INF)
+    |\.(?:nan|NaN|NAN))$""", re.X)
+_StrictLoader.yaml_implicit_resolvers = {
+    k: [(tag, regexp) for tag, regexp in v if tag != "tag:yaml.org,2002:float"]
+    for k, v in yaml.SafeLoader.yaml_implicit_resolvers.items()}
+_StrictLoader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_RE, list("-+0123456789."))
+
+
+def _no_duplicates(loader, node, deep=False):
+    seen = set()
+    for key_node, _ in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in seen:
+            raise SceneError(f"{key}: duplicate key (line {key_node.start_mark.line + 1}); allowed: each key once "
+                             f"per section")
+        seen.add(key)
+    return loader.construct_mapping(node, deep)
+
+
+_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _no_duplicates)
+
+
+def parse_yaml(text, origin="<string>"):
+    try:
+        return yaml.load(text, Loader=_StrictLoader)
+    except SceneError:
+        raise
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise SceneError(f"{origin}: not valid YAML{where}: {problem}") from None
+
+
+def _flatten(tree, origin):
+    if tree is None:
+        raise SceneError(f"{origin}: the scene is empty")
+    if not isinstance(tree, dict):
+        raise SceneError(f"{origin}: a scene is a mapping of sections, got {type(tree).__name__}")
+    flat = {}
+    for section, body in tree.items():
+        if not isinstance(section, str):
+            raise SceneError(f"{origin}: section name {section!r} is not a string")
+        if not isinstance(body, dict):
+            raise SceneError(f"{section}: expected a mapping of keys, got {type(body).__name__}")
+        for key, value in body.items():
+            if isinstance(value, dict):
+                raise SceneError(f"{section}.{key}: nested sections are not allowed")
+            flat[f"{section}.{key}"] = value
+    return flat
+
+
+def parse_override(text):
+    """'solid.young_modulus=2e6' -> ('solid.young_modulus', 2000000.0), the value parsed as YAML."""
+    if "=" not in text:
+        raise SceneError(f"--set {text!r}: expected KEY=VALUE")
+    key, raw = text.split("=", 1)
+    key = key.strip()
+    if not re.fullmatch(r"[a-z_]+\.[a-z0-9_]+", key):
+        raise SceneError(f"--set {text!r}: KEY must look like section.name")
+    return key, parse_yaml(raw, origin=f"--set {key}") if raw.strip() else ""
+
+
+def _config_dirs():
+    here = Path(__file__).resolve().parent
+    dirs = [here.parent / "config", Path(sys.prefix) / "share" / "sph_fsi" / "config"]
+    for prefix in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep):
+        if prefix:
+            dirs.append(Path(prefix) / "share" / "sph_fsi" / "config")
+    return [d for d in dirs if d.is_dir()]
+
+
+def builtin_scene_path(name):
+    for d in _config_dirs():
+        p = d / f"{name}.yaml"
+        if p.is_file():
+            return p
+    return None
+
+
+def builtin_scenes():
+    """{name: path} of the built-in scenes (config/*.yaml except defaults.yaml)."""
+    found = {}
+    for d in _config_dirs():
+        for p in sorted(d.glob("*.yaml")):
+            if p.stem != "defaults" and p.stem not in found:
+                found[p.stem] = p
+    return found
+
+
+@dataclass
+class SceneSpec:
+    """A validated scene: its builder, its schema and every key's value."""
+    builder: str
+    schema: Schema
+    values: dict
+    source: str
+
+    def __getitem__(self, key):
+        return self.values[key]
+
+    @property
+    def name(self):
+        return self.values["scene.name"]
+
+    @property
+    def phases(self):
+        return BUILDERS[self.builder].PHASES
+
+    def with_overrides(self, overrides):
+        """A new spec with `overrides` ({key: value}) applied and validated."""
+        return _resolve(self.builder, {**self._explicit, **overrides}, self.source)
+
+    _explicit: dict = None
+
+
+def _resolve(builder_name, flat, origin):
+    if builder_name not in BUILDERS:
+        raise SceneError(f"scene.builder = {builder_name!r}: unknown; allowed: one of "
+                         + ", ".join(repr(b) for b in sorted(BUILDERS)))
+    builder = BUILDERS[builder_name]
+    schema = Schema.for_builder(builder.PHASES, builder.GEOMETRY)
+    all_sections = ({p.section for params in SECTIONS_BY_PHASE.values() for p in params} | {"geometry"}
+                    | set(PHASE_NAMES))
+    values = {k: p.default for k, p in schema.params.items()}
+    values.update(getattr(builder, "DEFAULTS", {}))
+    for key, value in flat.items():
+        param = schema.check_key(key, all_sections)
+        values[key] = param.coerce(value)
+    values["scene.builder"] = builder_name
+    if not values["scene.name"]:
+        values["scene.name"] = builder_name
+    builder.check(values)
+    spec = SceneSpec(builder_name, schema, values, origin)
+    spec._explicit = dict(flat)
+    return spec
+
+
+def load_scene(scene=None, overrides=()):
+    """Load a scene by built-in name or YAML path (None: the default scene) and apply `KEY=VALUE` overrides."""
+    scene = scene or DEFAULT_SCENE
+    path = Path(scene)
+    if not (path.suffix in (".yaml", ".yml") or os.sep in scene):
+        found = builtin_scene_path(scene)
+        if found is None:
+            raise SceneError(f"scene {scene!r}: no such built-in scene; allowed: one of "
+                             + ", ".join(sorted(builtin_scenes())) + ", or a path to a .yaml file")
+        path = found
+    if not path.is_file():
+        raise SceneError(f"scene file {str(path)!r}: not found")
+    flat = _flatten(parse_yaml(path.read_text(), origin=str(path)), str(path))
+    for item in overrides:
+        key, value = parse_override(item) if isinstance(item, str) else item
+        flat[key] = value
+    builder = flat.get("scene.builder", path.stem)
+    if not isinstance(builder, str):
+        raise SceneError(f"scene.builder = {builder!r}: expected a string naming a builder")
+    return _resolve(builder, flat, str(path))
+
+
+def defaults_yaml():
+    """The text of config/defaults.yaml: every key of every phase with its default, unit and range."""
+    lines = ["# Every scene key with its default, unit and allowed range. Generated from sph_fsi_core/schema.py",
+             "# by `sph-fsi keys --yaml > config/defaults.yaml`; test_scene.py checks that this file is current.",
+             ""]
+    for phase, params in [("common", COMMON)] + [(k, v) for k, v in SECTIONS_BY_PHASE.items() if k != "common"]:
+        section = None
+        for p in params:
+            if p.section != section:
+                section = p.section
+                lines.append(f"{section}:" + ("" if phase == "common" else f"  # phase: {phase}"))
+            default = list(p.default) if isinstance(p.default, tuple) else p.default
+            text = yaml.safe_dump(default, default_flow_style=True).strip().removesuffix("...").strip()
+            unit = f" [{p.unit}]" if p.unit else ""
+            lines.append(f"  {p.key.split('.', 1)[1]}: {text}  #{unit} {p.description}; {p.range_text()}")
+    return "\n".join(lines) + "\n"

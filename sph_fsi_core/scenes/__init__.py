@@ -1,0 +1,16 @@
+"""Geometry builders, one module per case. A builder declares the phases it has, its geometry keys, and how a
+run of it is judged; it only makes particles and settings (the time loop is simulation.py's).
+
+Builder module interface:
+    PHASES        tuple of phase names ('solid', 'fluid', ...)
+    GEOMETRY      list of schema.Param under 'geometry.'
+    DEFAULTS      {key: value} overriding schema defaults for this builder
+    CONSERVATIVE  True when nothing feeds energy in (the watchdog then bounds energy growth)
+    check(values)               SceneError for inconsistent values (e.g. spacing larger than the body)
+    build(values) -> Built      particles, probes, domain
+    evaluate(series, values)    {measured quantities, reference, error} from the run's time series
+"""
+from . import cantilever
+
+BUILDERS = {"cantilever": cantilever}
+DEFAULT_SCENE = "cantilever"

@@ -1,0 +1,190 @@
+"""Every scene key, declared once: type, default, unit, range, description, and whether a change needs a rebuild.
+
+The same declarations validate YAML scene files and `--set KEY=VALUE` overrides, generate `config/defaults.yaml`
+and the docs' table of keys, and give the ROS node its parameter descriptors. A key belongs to a section; a
+section belongs to a phase (solid, fluid, ...) or to every scene ('common'). A scene can only set keys of the
+sections its builder has, so a cantilever file that mentions `fluid.*` is an error, not a silent no-op.
+"""
+import difflib
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+
+class SceneError(ValueError):
+    """Bad scene input: the message names the key, the bad value and what is allowed."""
+
+
+@dataclass(frozen=True)
+class Param:
+    key: str
+    default: Any
+    unit: str
+    description: str
+    kind: str = "float"            # float | int | bool | str | vec3
+    low: float | None = None
+    high: float | None = None
+    low_inclusive: bool = True
+    high_inclusive: bool = True
+    choices: tuple = ()
+    rebuild: bool = True           # True: a change takes effect at the next reset (particles must be rebuilt)
+
+    @property
+    def section(self):
+        return self.key.split(".", 1)[0]
+
+    def range_text(self):
+        if self.choices:
+            return "one of " + ", ".join(repr(c) for c in self.choices)
+        if self.low is None and self.high is None:
+            return {"float": "a finite number", "int": "an integer", "bool": "true or false",
+                    "str": "a string", "vec3": "a list of 3 finite numbers"}[self.kind]
+        lo = "-inf" if self.low is None else f"{self.low:g}"
+        hi = "inf" if self.high is None else f"{self.high:g}"
+        left = "[" if self.low_inclusive and self.low is not None else "("
+        right = "]" if self.high_inclusive and self.high is not None else ")"
+        return f"in {left}{lo}, {hi}{right}" + (f" {self.unit}" if self.unit and self.unit != "1" else "")
+
+    def _fail(self, value, why):
+        raise SceneError(f"{self.key} = {value!r}: {why}; allowed: {self.range_text()}")
+
+    def _check_number(self, value, x):
+        if not math.isfinite(x):
+            self._fail(value, "not finite")
+        if self.low is not None and (x < self.low or (x == self.low and not self.low_inclusive)):
+            self._fail(value, "out of range")
+        if self.high is not None and (x > self.high or (x == self.high and not self.high_inclusive)):
+            self._fail(value, "out of range")
+
+    def coerce(self, value):
+        """The value as this key's type, or SceneError naming the key and the allowed range."""
+        if self.kind == "float":
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                self._fail(value, f"expected a number, got {type(value).__name__}")
+            x = float(value)
+            self._check_number(value, x)
+            return x
+        if self.kind == "int":
+            if isinstance(value, bool) or not isinstance(value, int):
+                if isinstance(value, float) and value.is_integer():
+                    value = int(value)
+                else:
+                    self._fail(value, f"expected an integer, got {type(value).__name__}")
+            self._check_number(value, value)
+            return int(value)
+        if self.kind == "bool":
+            if not isinstance(value, bool):
+                self._fail(value, f"expected true or false, got {type(value).__name__}")
+            return value
+        if self.kind == "str":
+            if not isinstance(value, str):
+                self._fail(value, f"expected a string, got {type(value).__name__}")
+            if self.choices and value not in self.choices:
+                self._fail(value, "not a known choice")
+            return value
+        if self.kind == "vec3":
+            if not isinstance(value, (list, tuple)) or len(value) != 3:
+                self._fail(value, "expected a list of 3 numbers")
+            out = []
+            for v in value:
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+                    self._fail(value, "expected a list of 3 finite numbers")
+                out.append(float(v))
+            return tuple(out)
+        raise AssertionError(self.kind)
+
+
+def _p(*args, **kwargs):
+    return Param(*args, **kwargs)
+
+
+# Sections every scene has.
+COMMON = [
+    _p("scene.name", "", "", "Scene name, shown in outputs", kind="str", rebuild=False),
+    _p("scene.builder", "", "", "Geometry builder that makes the particles", kind="str", rebuild=True),
+    _p("scene.description", "", "", "One line on what the scene is", kind="str", rebuild=False),
+    _p("scene.end_time", 0.2, "s", "Simulated time at which the run ends", low=0.0, low_inclusive=False,
+       high=1.0e3, rebuild=False),
+    _p("scene.gravity", (0.0, 0.0, 0.0), "m/s^2", "Body acceleration (z up; -9.81 in z for gravity)",
+       kind="vec3", rebuild=False),
+    _p("numerics.spacing", 1.0e-3, "m", "Initial particle spacing dp", low=1.0e-5, high=0.1),
+    _p("numerics.smoothing_ratio", 1.3, "1", "Smoothing length over spacing, h / dp", low=1.0, high=2.0),
+    _p("numerics.neighbour_skin", 0.1, "1", "Verlet skin of the neighbour lists, as a fraction of h",
+       low=0.0, low_inclusive=False, high=1.0),
+    _p("output.timeseries_interval", 5.0e-4, "s", "Sampling interval of probes and energies (timeseries.csv)",
+       low=1.0e-7, high=1.0, rebuild=False),
+    _p("output.snapshot_interval", 0.01, "s", "Interval of particle snapshots (0: none)", low=0.0, high=10.0,
+       rebuild=False),
+    _p("watchdog.max_speed", 100.0, "m/s", "A moving particle faster than this stops the run as diverged",
+       low=0.0, low_inclusive=False, rebuild=False),
+    _p("watchdog.energy_growth", 2.0, "1",
+       "Scenes with no energy input stop as diverged once kinetic + strain energy exceeds this multiple of "
+       "its initial value", low=1.0, low_inclusive=False, rebuild=False),
+]
+
+# The elastic solid (Gray et al. 2001; Satake et al. sec. 2.1).
+SOLID = [
+    _p("solid.density", 1000.0, "kg/m^3", "Reference density rho0 of the solid", low=1.0, high=1.0e5),
+    _p("solid.young_modulus", 1.859e6, "Pa", "Young's modulus E", low=0.0, low_inclusive=False, high=1.0e13,
+       rebuild=False),
+    _p("solid.poisson_ratio", 0.49, "1", "Poisson's ratio nu (0.5 is incompressible and not allowed)", low=0.0,
+       high=0.5, high_inclusive=False, rebuild=False),
+    _p("solid.cfl", 0.25, "1", "Solid time step dt = cfl * h / (c0 + |v|max)", low=0.0, low_inclusive=False,
+       high=1.0, rebuild=False),
+    _p("solid.time_step", 0.0, "s", "Forced solid time step (0: automatic); above the stable limit it is refused",
+       low=0.0, high=1.0, rebuild=False),
+    _p("solid.xsph_epsilon", 0.5, "1", "XSPH averaging eps of eq. (4)", low=0.0, high=1.0, rebuild=False),
+    _p("solid.artificial_viscosity_alpha", 0.1, "1", "Monaghan artificial viscosity alpha (linear term)", low=0.0,
+       high=10.0, rebuild=False),
+    _p("solid.artificial_viscosity_beta", 0.0, "1", "Monaghan artificial viscosity beta (quadratic term)",
+       low=0.0, high=10.0, rebuild=False),
+    _p("solid.artificial_stress_epsilon", 0.3, "1", "Gray's artificial stress epsilon (0: off)", low=0.0,
+       high=1.0, rebuild=False),
+    _p("solid.artificial_stress_exponent", 4, "1", "Gray's artificial stress exponent n in f_ab^n", kind="int",
+       low=1, high=12, rebuild=False),
+]
+
+SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID}
+# Phases a scene may have; a scene whose builder lacks one refuses its section by name.
+PHASE_NAMES = ("solid", "fluid", "walls", "coupling")
+
+
+@dataclass
+class Schema:
+    """The keys a given builder's scenes may set: common + its phases' sections + its geometry."""
+    params: dict = field(default_factory=dict)
+
+    @classmethod
+    def for_builder(cls, phases, geometry_params):
+        params = {}
+        for p in COMMON:
+            params[p.key] = p
+        for phase in phases:
+            for p in SECTIONS_BY_PHASE.get(phase, []):
+                params[p.key] = p
+        for p in geometry_params:
+            params[p.key] = p
+        return cls(params)
+
+    def sections(self):
+        return sorted({p.section for p in self.params.values()})
+
+    def check_key(self, key, all_sections):
+        """SceneError unless `key` is declared here; names the phase when the key exists for other scenes."""
+        if key in self.params:
+            return self.params[key]
+        section = key.split(".", 1)[0]
+        if section in all_sections and section not in self.sections():
+            raise SceneError(f"{key}: this scene has no '{section}' section (its sections: "
+                             f"{', '.join(self.sections())})")
+        name = key.split(".", 1)[1] if "." in key else key
+        if section not in self.sections():
+            near = difflib.get_close_matches(section, self.sections(), n=1, cutoff=0.6)
+            guess = f"{near[0]}.{name}" if near else None
+            hint = (f"; did you mean {guess}?" if guess in self.params else "")
+            raise SceneError(f"{key}: unknown section '{section}' (this scene's sections: "
+                             f"{', '.join(self.sections())}){hint}")
+        close = difflib.get_close_matches(key, [k for k in self.params if k.startswith(section + ".")], n=1,
+                                          cutoff=0.6)
+        hint = f"; did you mean {close[0]}?" if close else ""
+        raise SceneError(f"{key}: unknown key{hint}")

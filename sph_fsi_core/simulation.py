@@ -1,0 +1,201 @@
+"""The one time loop. `Simulation` builds a scene's phases and advances them; everything else only reads state.
+
+`step()` advances one outer step. For a solid-only scene that is one time-series interval, taken as an integer
+number of solid steps no larger than the stable step; the loop over solid steps runs compiled
+(solid_stepper.solid_leapfrog). After every outer step the watchdog checks the state, so a run that goes wrong
+stops within one outer step with a diagnosis and nothing non-finite ever leaves the simulator.
+"""
+import math
+import time as _time
+
+import numpy as np
+
+from .diagnostics import Diverged, Watchdog, kinetic_energy
+from .neighbours import NeighbourList, pair_kernel_values
+from .scene import SceneError, SceneSpec
+from .scenes import BUILDERS
+from .solid_gray2001 import material_constants, strain_energy
+from .solid_stepper import SolidWork, make_params, solid_acceleration, solid_leapfrog
+from .kernels import SUPPORT_RADIUS_IN_H
+
+__all__ = ["Simulation", "Diverged"]
+
+_NO_EXTERNAL = np.zeros((0, 3))
+
+
+class Simulation:
+    """A scene's particles and the loop that advances them. Construct from a validated SceneSpec."""
+
+    def __init__(self, spec: SceneSpec):
+        self.spec = spec
+        self.builder = BUILDERS[spec.builder]
+        self._build()
+
+    # ---- construction -------------------------------------------------------------------------------------
+    def _build(self):
+        v = self.spec.values
+        built = self.builder.build(v)
+        self.solid = built.solid
+        self.probes = built.probes
+        self.period = built.period
+        self.spacing = v["numerics.spacing"]
+        self.h = v["numerics.smoothing_ratio"] * self.spacing
+        self.time = 0.0
+        self.solid_steps = 0
+        self.outer_steps = 0
+        self.last_solid_dt = 0.0
+        self.last_substeps = 0
+        self.warnings = []
+        self.neighbour_builds = 0
+        if self.solid is not None:
+            self._initial_positions = self.solid.pos.copy()
+            self.solid_work = SolidWork(self.solid.count)
+            self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h,
+                                                  v["numerics.neighbour_skin"] * self.h, period=self.period,
+                                                  box_lo=built.domain_lo, box_hi=built.domain_hi, half=True)
+            self._apply_solid_settings()
+            self._rebuild_solid_neighbours()
+            self._solid_acceleration()
+        self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
+
+    def _apply_solid_settings(self):
+        v = self.spec.values
+        self.bulk_modulus, self.shear_modulus, self.sound_speed = material_constants(
+            v["solid.young_modulus"], v["solid.poisson_ratio"], v["solid.density"])
+        self.solid_params = make_params(
+            h=self.h, spacing=self.spacing, density=v["solid.density"], c0=self.sound_speed,
+            shear_modulus=self.shear_modulus, xsph_eps=v["solid.xsph_epsilon"],
+            alpha=v["solid.artificial_viscosity_alpha"], beta=v["solid.artificial_viscosity_beta"],
+            art_eps=v["solid.artificial_stress_epsilon"], art_exponent=v["solid.artificial_stress_exponent"],
+            gravity=v["scene.gravity"], skin=v["numerics.neighbour_skin"] * self.h)
+        forced = v["solid.time_step"]
+        limit = self.stable_solid_dt()
+        if forced > limit:
+            raise SceneError(f"solid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
+                             f"(solid.cfl * h / c0 with c0 = {self.sound_speed:.4g} m/s); "
+                             f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
+
+    def _rebuild_solid_neighbours(self):
+        s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
+        nb.build(s.pos, s.pos)
+        wk.resize_pairs(nb.pairs)
+        pair_kernel_values(s.pos, s.pos, nb.start, nb.index, self.h, self.period, wk.w, wk.f)
+        self.neighbour_builds += 1
+
+    def _solid_acceleration(self):
+        s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
+        solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
+                           nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
+                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf)
+
+    # ---- settings ------------------------------------------------------------------------------------------
+    def apply(self, overrides):
+        """Apply {key: value}: live keys take effect now; keys that need a rebuild wait for reset().
+
+        Returns the keys deferred to the next reset. Raises SceneError (state unchanged) on a bad value.
+        """
+        new_spec = self.spec.with_overrides(overrides)
+        deferred = [k for k in overrides if new_spec.schema.params[k].rebuild]
+        live = {k: v for k, v in overrides.items() if k not in deferred}
+        if live:
+            old = self.spec
+            self.spec = old.with_overrides(live)
+            try:
+                if self.solid is not None:
+                    self._apply_solid_settings()
+            except SceneError:
+                self.spec = old
+                self._apply_solid_settings()
+                raise
+        self._pending = new_spec if deferred else None
+        return deferred
+
+    def reset(self):
+        """Rebuild from the current settings (including changes that were waiting for a reset), back to t = 0."""
+        pending = getattr(self, "_pending", None)
+        if pending is not None:
+            self.spec = pending
+            self._pending = None
+        self._build()
+
+    # ---- time stepping ------------------------------------------------------------------------------------
+    def stable_solid_dt(self):
+        """dt = cfl * h / (c0 + |v|max), the solid's acoustic limit (METHOD sec. 1)."""
+        vmax = float(np.sqrt((self.solid.vel ** 2).sum(axis=1).max())) if self.solid.count else 0.0
+        return self.spec["solid.cfl"] * self.h / (self.sound_speed + vmax)
+
+    def _solid_dt(self):
+        limit = self.stable_solid_dt()
+        forced = self.spec["solid.time_step"]
+        if forced > 0.0:
+            if forced > limit:
+                self.warnings.append(f"t = {self.time:.6g} s: solid.time_step {forced:g} s exceeds the stable "
+                                     f"limit {limit:.4g} s now; clamped to the limit")
+                return limit
+            return forced
+        return limit
+
+    def outer_step_duration(self):
+        return self.spec["output.timeseries_interval"]
+
+    def step(self):
+        """Advance one outer step; raises Diverged (state left as found at the check) if the watchdog trips."""
+        duration = self.outer_step_duration()
+        if self.solid is not None:
+            dt_max = self._solid_dt()
+            n = max(1, math.ceil(duration / dt_max * (1.0 - 1e-12)))
+            dt = duration / n
+            self._advance_solid(n, dt)
+            self.last_solid_dt, self.last_substeps = dt, n
+            self.solid_steps += n
+        self.time += duration
+        self.outer_steps += 1
+        self.watchdog.check()
+
+    def _advance_solid(self, n, dt):
+        s, nb, wk, prm = self.solid, self.solid_neighbours, self.solid_work, self.solid_params
+        done, force = 0, False
+        while done < n:
+            k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
+                               s.acc, _NO_EXTERNAL, nb.start, nb.index, self.period, nb._targets_at_build, prm,
+                               wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
+                               wk.eig_work, wk.w, wk.f, wk.buf)
+            done += k
+            if done < n:
+                self._rebuild_solid_neighbours()
+                force = True
+
+    # ---- read-only views ----------------------------------------------------------------------------------
+    @property
+    def phases(self):
+        return self.builder.PHASES
+
+    @property
+    def particle_count(self):
+        return self.solid.count if self.solid is not None else 0
+
+    def energies(self):
+        """{'kinetic_energy', 'strain_energy'} in J for the phases the scene has."""
+        out = {}
+        if self.solid is not None:
+            s = self.solid
+            out["kinetic_energy"] = kinetic_energy(s.mass, s.vel, s.movable)
+            out["strain_energy"] = strain_energy(s.mass, s.rho, s.stress, s.pressure, self.shear_modulus,
+                                                 self.bulk_modulus)
+        return out
+
+    def probe_displacements(self):
+        return {p.name: p.displacement(self.solid.pos if p.phase == "solid" else None) for p in self.probes}
+
+    def sample(self):
+        """One time-series row: time, probe displacements, energies, step sizes, scene extras."""
+        row = {"time": self.time}
+        for name, d in self.probe_displacements().items():
+            row[f"{name}_dx"], row[f"{name}_dy"], row[f"{name}_dz"] = (float(x) for x in d)
+        row.update(self.energies())
+        if self.solid is not None:
+            row["solid_dt"] = self.last_solid_dt
+            row["solid_substeps"] = self.last_substeps
+            if hasattr(self.builder, "sample"):
+                row.update(self.builder.sample(self.solid, self.probes))
+        return row

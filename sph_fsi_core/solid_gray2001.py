@@ -1,0 +1,319 @@
+"""Elastic solid of Gray, Monaghan & Swift (2001) in 3D, as used by Satake et al. (sec. 2.1, eqs. (3)-(5)).
+
+Each function is one pass: an equation's right-hand side over the half pair list (each pair once, b > a; see
+neighbours.py), or one per-particle update. State per solid particle: position, velocity, density rho, deviatoric stress S (N, 6 in the
+XX, YY, ZZ, XY, XZ, YZ order of tensors.py). The full stress is sigma = -p I + S with p = c0^2 (rho - rho0).
+
+Sign of the artificial viscosity (METHOD 'Open (sign)'): Pi_ab here is Monaghan's, (-alpha cbar mu + beta mu^2)
+/ rhobar with mu = h v_ab.r_ab / (r_ab^2 + 0.01 h^2) for approaching pairs (v_ab.r_ab < 0), so Pi_ab >= 0. It
+must act like a pressure, so it enters eq. (5)'s bracket as -Pi_ab delta^ij next to sigma/rho^2 = -p/rho^2 I.
+(The paper's "+Pi delta" is Gray's convention, whose Pi carries the opposite sign.) test_solid_physics checks
+that it removes energy.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernels import cubic_spline_f, cubic_spline_w
+from .neighbours import minimum_image
+from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def material_constants(young_modulus, poisson_ratio, density):
+    """Bulk modulus K = E/(3(1-2nu)), shear modulus G = E/(2(1+nu)), sound speed c0 = sqrt(K/rho0)."""
+    bulk = young_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio))
+    shear = young_modulus / (2.0 * (1.0 + poisson_ratio))
+    return bulk, shear, math.sqrt(bulk / density)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf):
+    """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
+
+    One pass over the half list (each pair once): with g = grad_a W_ab and dv = v_b - v_a, the pair adds
+    V_b dv (x) g to L_a and V_a dv (x) g to L_b (grad_b W_ba = -g and v_a - v_b = -dv), and m/rhobar W dv with
+    opposite signs to the two XSPH sums. Each chunk of rows accumulates into its own slice of `buf`
+    (chunks, N, 12), so there are no write races; a second loop sums the chunks.
+    """
+    n = vel.shape[0]
+    chunks = buf.shape[0]
+    for c in prange(chunks):
+        out = buf[c]
+        out[:, :] = 0.0
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            va = mass[a] / rho[a]
+            # a's sums stay in registers; only b's go through the buffer
+            x0 = x1 = x2 = 0.0
+            for s in range(start[a], start[a + 1]):
+                b = index[s]
+                vb = mass[b] / rho[b]
+                fs = f[s]
+                gx = fs * minimum_image(pos[a, 0] - pos[b, 0], period[0])
+                gy = fs * minimum_image(pos[a, 1] - pos[b, 1], period[1])
+                gz = fs * minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                dvx = vel[b, 0] - vel[a, 0]
+                dvy = vel[b, 1] - vel[a, 1]
+                dvz = vel[b, 2] - vel[a, 2]
+                k = w[s] / (0.5 * (rho[a] + rho[b]))
+                x0 += mass[b] * k * dvx
+                x1 += mass[b] * k * dvy
+                x2 += mass[b] * k * dvz
+                out[b, 0] -= mass[a] * k * dvx
+                out[b, 1] -= mass[a] * k * dvy
+                out[b, 2] -= mass[a] * k * dvz
+                o00 = dvx * gx
+                o01 = dvx * gy
+                o02 = dvx * gz
+                o10 = dvy * gx
+                o11 = dvy * gy
+                o12 = dvy * gz
+                o20 = dvz * gx
+                o21 = dvz * gy
+                o22 = dvz * gz
+                out[a, 3] += vb * o00
+                out[a, 4] += vb * o01
+                out[a, 5] += vb * o02
+                out[a, 6] += vb * o10
+                out[a, 7] += vb * o11
+                out[a, 8] += vb * o12
+                out[a, 9] += vb * o20
+                out[a, 10] += vb * o21
+                out[a, 11] += vb * o22
+                out[b, 3] += va * o00
+                out[b, 4] += va * o01
+                out[b, 5] += va * o02
+                out[b, 6] += va * o10
+                out[b, 7] += va * o11
+                out[b, 8] += va * o12
+                out[b, 9] += va * o20
+                out[b, 10] += va * o21
+                out[b, 11] += va * o22
+            out[a, 0] += x0
+            out[a, 1] += x1
+            out[a, 2] += x2
+    for a in prange(n):
+        for k in range(3):
+            acc = 0.0
+            for c in range(chunks):
+                acc += buf[c, a, k]
+            vhat[a, k] = vel[a, k] + xsph_eps * acc
+        for i in range(3):
+            for j in range(3):
+                acc = 0.0
+                for c in range(chunks):
+                    acc += buf[c, a, 3 + 3 * i + j]
+                grad_v[a, i, j] = acc
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
+    """Eq. (3): d rho_a/dt = rho_a sum_b (m_b/rho_b) (vhat_a - vhat_b) . grad_a W_ab.
+
+    Half list: the pair's (vhat_a - vhat_b) . grad_a W_ab is the same seen from b, so it adds V_b times it to a's
+    sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient).
+    """
+    n = vhat.shape[0]
+    chunks = buf.shape[0]
+    for c in prange(chunks):
+        out = buf[c]
+        out[:, 0] = 0.0
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            va = mass[a] / rho[a]
+            da = 0.0
+            for s in range(start[a], start[a + 1]):
+                b = index[s]
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
+                            + (vhat[a, 2] - vhat[b, 2]) * rz)
+                da += mass[b] / rho[b] * d
+                out[b, 0] += va * d
+            out[a, 0] += da
+    for a in prange(n):
+        acc = 0.0
+        for c in range(chunks):
+            acc += buf[c, a, 0]
+        drho[a] = rho[a] * acc
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def jaumann_stress_rate(grad_v, stress, shear_modulus, dstress):
+    """Hooke's law in Jaumann-rate form (Gray 2001, eq. (9)-(10) there; METHOD sec. 1):
+
+    dS/dt = 2G (epsdot - tr(epsdot) I / 3) + S Omega^T + Omega S,
+    epsdot = (L + L^T)/2, Omega = (L - L^T)/2.
+    """
+    for a in prange(stress.shape[0]):
+        L = grad_v[a]
+        exx = L[0, 0]
+        eyy = L[1, 1]
+        ezz = L[2, 2]
+        exy = 0.5 * (L[0, 1] + L[1, 0])
+        exz = 0.5 * (L[0, 2] + L[2, 0])
+        eyz = 0.5 * (L[1, 2] + L[2, 1])
+        wxy = 0.5 * (L[0, 1] - L[1, 0])
+        wxz = 0.5 * (L[0, 2] - L[2, 0])
+        wyz = 0.5 * (L[1, 2] - L[2, 1])
+        trace3 = (exx + eyy + ezz) / 3.0
+        sxx = stress[a, XX]
+        syy = stress[a, YY]
+        szz = stress[a, ZZ]
+        sxy = stress[a, XY]
+        sxz = stress[a, XZ]
+        syz = stress[a, YZ]
+        # S Omega^T + Omega S = Omega S - S Omega, written out for
+        # Omega = [[0, wxy, wxz], [-wxy, 0, wyz], [-wxz, -wyz, 0]] (checked against NumPy in the tests).
+        rxx = 2.0 * (wxy * sxy + wxz * sxz)
+        ryy = 2.0 * (-wxy * sxy + wyz * syz)
+        rzz = 2.0 * (-wxz * sxz - wyz * syz)
+        rxy = wxy * syy + wxz * syz - sxx * wxy + sxz * wyz
+        rxz = wxy * syz + wxz * szz - sxx * wxz - sxy * wyz
+        ryz = -wxy * sxz + wyz * szz - sxy * wxz - syy * wyz
+        dstress[a, XX] = 2.0 * shear_modulus * (exx - trace3) + rxx
+        dstress[a, YY] = 2.0 * shear_modulus * (eyy - trace3) + ryy
+        dstress[a, ZZ] = 2.0 * shear_modulus * (ezz - trace3) + rzz
+        dstress[a, XY] = 2.0 * shear_modulus * exy + rxy
+        dstress[a, XZ] = 2.0 * shear_modulus * exz + rxz
+        dstress[a, YZ] = 2.0 * shear_modulus * eyz + ryz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rho2, art_stress, eig_work):
+    """Per particle: p = c0^2 (rho - rho0); sigma/rho^2 with sigma = -pI + S; Gray's artificial stress R_a.
+
+    R_a: in the principal frame of sigma_a, Rbar^ii = -eps sigma^ii / rho^2 where sigma^ii > 0 (tension), else 0,
+    rotated back to x, y, z (Gray 2001 sec. 4; METHOD sec. 1). `eig_work` (N, 10, 3) is scratch for the
+    eigen-solver (matrix, eigenvectors, eigenvalues, scratch), so the loop allocates nothing; the eigenvectors are
+    kept as the next call's warm start.
+    """
+    for a in prange(stress.shape[0]):
+        p = c0_squared * (rho[a] - rho0)
+        pressure[a] = p
+        inv_r2 = 1.0 / (rho[a] * rho[a])
+        sxx = stress[a, XX] - p
+        syy = stress[a, YY] - p
+        szz = stress[a, ZZ] - p
+        sigma_over_rho2[a, XX] = sxx * inv_r2
+        sigma_over_rho2[a, YY] = syy * inv_r2
+        sigma_over_rho2[a, ZZ] = szz * inv_r2
+        sigma_over_rho2[a, XY] = stress[a, XY] * inv_r2
+        sigma_over_rho2[a, XZ] = stress[a, XZ] * inv_r2
+        sigma_over_rho2[a, YZ] = stress[a, YZ] * inv_r2
+        if art_eps == 0.0:
+            for k in range(6):
+                art_stress[a, k] = 0.0
+            continue
+        m = eig_work[a, 0:3]
+        q = eig_work[a, 3:6]
+        lam = eig_work[a, 6]
+        rot = eig_work[a, 7:10]
+        m[0, 0] = sxx
+        m[1, 1] = syy
+        m[2, 2] = szz
+        m[0, 1] = m[1, 0] = stress[a, XY]
+        m[0, 2] = m[2, 0] = stress[a, XZ]
+        m[1, 2] = m[2, 1] = stress[a, YZ]
+        symmetric_eigen(m, lam, q, rot)
+        for k in range(3):
+            lam[k] = -art_eps * lam[k] * inv_r2 if lam[k] > 0.0 else 0.0
+        rbar = lam
+        # R = Q diag(rbar) Q^T
+        art_stress[a, XX] = q[0, 0] * q[0, 0] * rbar[0] + q[0, 1] * q[0, 1] * rbar[1] + q[0, 2] * q[0, 2] * rbar[2]
+        art_stress[a, YY] = q[1, 0] * q[1, 0] * rbar[0] + q[1, 1] * q[1, 1] * rbar[1] + q[1, 2] * q[1, 2] * rbar[2]
+        art_stress[a, ZZ] = q[2, 0] * q[2, 0] * rbar[0] + q[2, 1] * q[2, 1] * rbar[1] + q[2, 2] * q[2, 2] * rbar[2]
+        art_stress[a, XY] = q[0, 0] * q[1, 0] * rbar[0] + q[0, 1] * q[1, 1] * rbar[1] + q[0, 2] * q[1, 2] * rbar[2]
+        art_stress[a, XZ] = q[0, 0] * q[2, 0] * rbar[0] + q[0, 1] * q[2, 1] * rbar[1] + q[0, 2] * q[2, 2] * rbar[2]
+        art_stress[a, YZ] = q[1, 0] * q[2, 0] * rbar[0] + q[1, 1] * q[2, 1] * rbar[1] + q[1, 2] * q[2, 2] * rbar[2]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
+                  alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf):
+    """Eq. (5): dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I + R_ab f_ab^n) . grad_a W_ab + g.
+
+    f_ab = W_ab / W(dp); R_ab = R_a + R_b; n = art_exponent, an integer (0: no artificial stress).
+    Pi_ab: Monaghan's viscosity (>= 0, see module doc for the sign). The bracket T_ab is symmetric in a and b
+    and grad_b W_ba = -grad_a W_ab, so over the half list each pair adds m_b T.g to a and -m_a T.g to b:
+    momentum is conserved to round-off. The same pass evaluates the kernel at the current positions and leaves
+    it in the pair cache (w, f) for the next step's velocity passes.
+    """
+    eta2 = 0.01 * h * h
+    use_art = art_exponent > 0
+    n = vel.shape[0]
+    chunks = buf.shape[0]
+    for c in prange(chunks):
+        out = buf[c]
+        out[:, 0:3] = 0.0
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            ax = ay = az = 0.0
+            for s in range(start[a], start[a + 1]):
+                b = index[s]
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                r2 = rx * rx + ry * ry + rz * rz
+                r = math.sqrt(r2)
+                wab = cubic_spline_w(r, h)
+                fab = cubic_spline_f(r, h)
+                w[s] = wab
+                f[s] = fab
+                txx = sigma_over_rho2[a, XX] + sigma_over_rho2[b, XX]
+                tyy = sigma_over_rho2[a, YY] + sigma_over_rho2[b, YY]
+                tzz = sigma_over_rho2[a, ZZ] + sigma_over_rho2[b, ZZ]
+                txy = sigma_over_rho2[a, XY] + sigma_over_rho2[b, XY]
+                txz = sigma_over_rho2[a, XZ] + sigma_over_rho2[b, XZ]
+                tyz = sigma_over_rho2[a, YZ] + sigma_over_rho2[b, YZ]
+                vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
+                if vr < 0.0:
+                    mu = h * vr / (r2 + eta2)
+                    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
+                    txx -= pi_ab
+                    tyy -= pi_ab
+                    tzz -= pi_ab
+                if use_art:
+                    ratio = wab * inv_w_dp
+                    if art_exponent == 4:   # Gray's n, the default: two multiplications
+                        fn = ratio * ratio
+                        fn *= fn
+                    else:
+                        fn = 1.0
+                        for _ in range(art_exponent):
+                            fn *= ratio
+                    txx += (art_stress[a, XX] + art_stress[b, XX]) * fn
+                    tyy += (art_stress[a, YY] + art_stress[b, YY]) * fn
+                    tzz += (art_stress[a, ZZ] + art_stress[b, ZZ]) * fn
+                    txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
+                    txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
+                    tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
+                gx = fab * (txx * rx + txy * ry + txz * rz)
+                gy = fab * (txy * rx + tyy * ry + tyz * rz)
+                gz = fab * (txz * rx + tyz * ry + tzz * rz)
+                ax += mass[b] * gx
+                ay += mass[b] * gy
+                az += mass[b] * gz
+                out[b, 0] -= mass[a] * gx
+                out[b, 1] -= mass[a] * gy
+                out[b, 2] -= mass[a] * gz
+            out[a, 0] += ax
+            out[a, 1] += ay
+            out[a, 2] += az
+    for a in prange(n):
+        for k in range(3):
+            total = body_acc[k]
+            for c in range(chunks):
+                total += buf[c, a, k]
+            acc[a, k] = total
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def strain_energy(mass, rho, stress, pressure, shear_modulus, bulk_modulus):
+    """Elastic energy sum_a (m_a/rho_a) (S:S/(4G) + p^2/(2K)) of linear isotropic elasticity (the paper's Fig. 8)."""
+    total = 0.0
+    for a in range(stress.shape[0]):
+        ss = (stress[a, XX] ** 2 + stress[a, YY] ** 2 + stress[a, ZZ] ** 2
+              + 2.0 * (stress[a, XY] ** 2 + stress[a, XZ] ** 2 + stress[a, YZ] ** 2))
+        total += mass[a] / rho[a] * (ss / (4.0 * shear_modulus) + pressure[a] ** 2 / (2.0 * bulk_modulus))
+    return total

@@ -1,0 +1,147 @@
+"""Time integration of the elastic solid: kick-drift-kick leapfrog, compiled so many steps run per call.
+
+One step of size dt, with a^n the acceleration at r^n (from the previous step):
+
+    v^{n+1/2} = v^n + dt/2 a^n                                   (kick)
+    vhat, L    from v^{n+1/2} on the pair cache at r^n          (eq. (4), velocity gradient)
+    rho^{n+1} = rho^n + dt drho/dt,  S^{n+1} = S^n + dt dS/dt    (eq. (3), Jaumann Hooke)
+    r^{n+1}   = r^n + dt vhat                                     (drift; Gray moves particles with vhat)
+    a^{n+1} from eq. (5), refreshing the pair cache at r^{n+1} in the same pass
+    v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}                          (kick)
+
+Second order, three passes over the pairs per step. The artificial viscosity in a^{n+1}
+uses v^{n+1/2} (the velocity at n+1 is not known yet). Clamp particles (movable False) keep v = 0 and r fixed
+but update rho and S. The loop returns early when the neighbour list may go stale within the next step, so
+the caller can rebuild it (a rebuild is never needed mid-step).
+"""
+import math
+from typing import NamedTuple
+
+import numba
+import numpy as np
+from numba import njit
+
+from .kernels import cubic_spline_w
+from .neighbours import max_displacement
+from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
+                             xsph_velocity_and_gradient)
+
+
+class SolidParams(NamedTuple):
+    """Numbers the solid passes need, as one Numba-friendly tuple of floats."""
+    h: float
+    rho0: float
+    c0: float
+    shear_modulus: float
+    xsph_eps: float
+    alpha: float
+    beta: float
+    art_eps: float
+    art_exponent: int      # 0 switches the artificial stress term off
+    inv_w_dp: float        # 1 / W(dp, h)
+    gx: float
+    gy: float
+    gz: float
+    half_skin: float
+
+
+def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
+                skin):
+    return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
+                       beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
+                       inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
+                       half_skin=0.5 * skin)
+
+
+class SolidWork:
+    """Scratch arrays of the solid passes, allocated once per build.
+
+    `buf` (chunks, N, 12): per-chunk accumulators of the half-list passes, one chunk per thread.
+    """
+
+    def __init__(self, n):
+        self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 12))
+        self.vhat = np.zeros((n, 3))
+        self.grad_v = np.zeros((n, 3, 3))
+        self.drho = np.zeros(n)
+        self.dstress = np.zeros((n, 6))
+        self.sigma_over_rho2 = np.zeros((n, 6))
+        self.art_stress = np.zeros((n, 6))
+        self.eig_work = np.zeros((n, 10, 3))
+        self.eig_work[:, 3:6] = np.eye(3)   # eigenvector guesses, warm-started from step to step
+        self.w = np.zeros(0)
+        self.f = np.zeros(0)
+
+    def resize_pairs(self, npairs):
+        if len(self.w) != npairs:
+            self.w = np.zeros(npairs)
+            self.f = np.zeros(npairs)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
+                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf):
+    """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
+    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
+                 eig_work)
+    body = np.array([prm.gx, prm.gy, prm.gz])
+    momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
+                  prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf)
+    has_ext = ext_acc.shape[0] == acc.shape[0]
+    for a in range(acc.shape[0]):
+        if not movable[a]:
+            acc[a, 0] = 0.0
+            acc[a, 1] = 0.0
+            acc[a, 2] = 0.0
+        elif has_ext:
+            acc[a, 0] += ext_acc[a, 0]
+            acc[a, 1] += ext_acc[a, 1]
+            acc[a, 2] += ext_acc[a, 2]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def _max_norm(v):
+    m = 0.0
+    for a in range(v.shape[0]):
+        s = v[a, 0] * v[a, 0] + v[a, 1] * v[a, 1] + v[a, 2] * v[a, 2]
+        if s > m:
+            m = s
+    return math.sqrt(m)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
+                   period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
+                   w, f, buf):
+    """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
+
+    `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
+    faster than half the skin per step would otherwise stall the run; the watchdog's speed limit catches those).
+    """
+    n = pos.shape[0]
+    for step in range(n_steps):
+        # XSPH speed is at most (1 + 2 eps) times the largest neighbour speed; stop before the skin can be crossed.
+        reach = dt * (1.0 + 2.0 * prm.xsph_eps) * (_max_norm(vel) + 0.5 * dt * _max_norm(acc))
+        if (step > 0 or not force_first) and max_displacement(pos, pos_at_build) + reach > prm.half_skin:
+            return step
+        for a in range(n):
+            if movable[a]:
+                for k in range(3):
+                    vel[a, k] += 0.5 * dt * acc[a, k]
+        xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v, buf)
+        continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf)
+        jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
+        for a in range(n):
+            rho[a] += dt * drho[a]
+            for k in range(6):
+                stress[a, k] += dt * dstress[a, k]
+            if movable[a]:
+                for k in range(3):
+                    pos[a, k] += dt * vhat[a, k]
+        solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
+                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf)
+        for a in range(n):
+            if movable[a]:
+                for k in range(3):
+                    vel[a, k] += 0.5 * dt * acc[a, k]
+    return n_steps

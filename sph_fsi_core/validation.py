@@ -1,0 +1,123 @@
+"""`sph-fsi validate`: error against run time over resolution ladders, for every reference case.
+
+Each case is a list of rungs (a scene plus overrides and an end time). A rung runs headless (run.run_scene)
+into OUT/runs/CASE/RUNG/ and leaves its summary.json there: measured value, reference, error, wall time, steps,
+particle-steps/s, stable. The report (OUT/REPORT.md and PNG plots) is made from those summaries, so it can be
+rebuilt without rerunning (`--report-only`). `--quick` runs only the coarse rungs and asserts each error under
+the bound stated with the rung; it is part of CI.
+"""
+import json
+import multiprocessing
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+
+@dataclass(frozen=True)
+class Rung:
+    case: str
+    label: str
+    scene: str
+    overrides: dict
+    periods: float = 0.0        # cantilever rungs: run this many periods of the reference frequency
+    end_time: float = 0.0       # or a fixed end time
+    quick: bool = False         # part of --quick (CI)
+    bound: float = None         # --quick asserts error <= bound
+    note: str = ""
+
+    @property
+    def key(self):
+        return f"{self.case}/{self.label}"
+
+
+def _cantilever_end_time(overrides, periods):
+    from .references import cantilever_references
+    length = overrides.get("geometry.length", 0.04)
+    refs = cantilever_references(length, 0.004, 0.006, 1.859e6, 0.49, 1000.0)
+    return periods / refs["reference_hz"]
+
+
+def _cantilever_rungs():
+    rungs = []
+    # The paper's beam at the paper's spacing, 10 periods: frequency, damping, energy, sideways mode.
+    rungs.append(Rung("cantilever", "L40_dp1.0_10periods", "cantilever", {}, periods=10.0,
+                      note="the paper's beam, 10 periods"))
+    # Resolution ladder H/dp = 4, 6, 8 (1.75 periods each: four zero crossings of the tip).
+    for ratio, quick in ((4, True), (6, False), (8, False)):
+        dp = 0.004 / ratio
+        rungs.append(Rung("cantilever_ladder", f"H_over_dp_{ratio}", "cantilever",
+                          {"numerics.spacing": dp}, periods=1.75, quick=quick, bound=0.02,
+                          note=f"dp = {dp * 1e3:.3f} mm"))
+    # Length sweep at dp = 1 mm, as the paper's Fig. 5.
+    for length_mm in (40, 60, 80, 100, 120):
+        rungs.append(Rung("cantilever_length", f"L{length_mm}", "cantilever",
+                          {"geometry.length": length_mm * 1e-3}, periods=1.75,
+                          note=f"L = {length_mm} mm, dp = 1 mm"))
+    return rungs
+
+
+def all_rungs():
+    return _cantilever_rungs()
+
+
+def _rung_dir(out_dir, rung):
+    return Path(out_dir) / "runs" / rung.case / rung.label
+
+
+def run_rung(args):
+    """Run one rung (in a worker process when --workers > 1); returns its summary."""
+    rung, out_dir = args
+    from .run import run_scene
+    from .scene import load_scene
+    overrides = dict(rung.overrides)
+    end = rung.end_time or _cantilever_end_time(overrides, rung.periods)
+    overrides.update({"scene.end_time": end, "output.snapshot_interval": 0.0})
+    spec = load_scene(rung.scene, list(overrides.items()))
+    t0 = time.perf_counter()
+    summary = run_scene(spec, _rung_dir(out_dir, rung), progress=False)
+    print(f"  {rung.key}: error {summary.get('error')}, wall {time.perf_counter() - t0:.1f} s, "
+          f"stable {summary['stable']}", flush=True)
+    return summary
+
+
+def run_rungs(rungs, out_dir, workers=1):
+    jobs = [(r, out_dir) for r in rungs]
+    if workers > 1:
+        # Rungs are independent; each process runs Numba's threads, so use workers = cores / threads.
+        with multiprocessing.get_context("spawn").Pool(workers) as pool:
+            return pool.map(run_rung, jobs, chunksize=1)
+    return [run_rung(j) for j in jobs]
+
+
+def load_summaries(out_dir, rungs):
+    found = {}
+    for r in rungs:
+        p = _rung_dir(out_dir, r) / "summary.json"
+        if p.is_file():
+            found[r.key] = json.loads(p.read_text())
+    return found
+
+
+def main(cases=(), quick=False, workers=1, out_dir="docs/validation", report_only=False):
+    rungs = [r for r in all_rungs() if (not cases or r.case in cases) and (r.quick or not quick)]
+    if not rungs:
+        known = sorted({r.case for r in all_rungs()})
+        print(f"sph-fsi validate: no such case {list(cases)}; allowed: {', '.join(known)}", file=sys.stderr)
+        return 2
+    if not report_only:
+        print(f"sph-fsi validate: {len(rungs)} run(s) into {out_dir}/runs/", flush=True)
+        run_rungs(rungs, out_dir, workers)
+    from .validation_report import write_report
+    summaries = load_summaries(out_dir, all_rungs())
+    write_report(out_dir, all_rungs(), summaries)
+    failed = []
+    for r in rungs:
+        s = summaries.get(r.key)
+        if s is None or not s["stable"]:
+            failed.append(f"{r.key}: did not finish stably")
+        elif r.bound is not None and quick and (s.get("error") is None or s["error"] > r.bound):
+            failed.append(f"{r.key}: error {s.get('error')} above the bound {r.bound}")
+    for line in failed:
+        print(f"sph-fsi validate: FAILED {line}", file=sys.stderr)
+    return 1 if failed else 0

@@ -1,0 +1,396 @@
+"""Scenes (loading, validation, the cantilever builder), the references they are judged against, the reference
+data's provenance, config/defaults.yaml, and the command line's handling of bad input."""
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sph_fsi.cli import main
+from sph_fsi_core import references
+from sph_fsi_core.references import (beam_theory_frequency, cantilever_mode_velocity, clamped_free_mode_kl,
+                                     fe3d_frequency, plate_frequency_eq15, read_reference_csv)
+from sph_fsi_core.scene import defaults_yaml, load_scene
+from sph_fsi_core.scenes import BUILDERS, cantilever
+from sph_fsi_core.schema import SceneError
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED_REFERENCE = Path(__file__).resolve().parents[2] / "shared" / "reference"
+CANTILEVER_YAML = (REPO / "config" / "cantilever.yaml").read_text()
+
+
+# ---- the cantilever scene ----------------------------------------------------------------------------------
+
+def test_cantilever_scene_values():
+    spec = load_scene("cantilever")
+    assert spec.builder == "cantilever"
+    assert spec.name == "cantilever"
+    assert spec["numerics.spacing"] == 1e-3
+    assert spec["solid.young_modulus"] == 1.859e6
+    assert isinstance(spec["solid.young_modulus"], float)
+    assert spec["solid.poisson_ratio"] == 0.49
+    assert spec["solid.density"] == 1000.0
+    assert spec["geometry.length"] == 0.04
+    assert spec["geometry.thickness"] == 0.004
+    assert spec["geometry.width"] == 0.006
+    assert spec["numerics.smoothing_ratio"] == 1.3
+    assert spec["geometry.tip_velocity"] == 0.01
+    assert spec["scene.gravity"] == (0.0, 0.0, 0.0)
+    assert spec.phases == ("solid",)
+    # the default scene is the cantilever
+    assert load_scene().values == spec.values
+
+
+def test_cantilever_build():
+    spec = load_scene("cantilever")
+    built = cantilever.build(spec.values)
+    s = built.solid
+    assert s.count == 1296
+    assert s.moving_count == 960
+    assert int((~s.movable).sum()) == 336
+    dp = 1e-3
+    # lattice: beam x in (0, L), clamp x < 0, centred in y and z
+    beam = s.pos[s.movable]
+    clamp = s.pos[~s.movable]
+    assert beam[:, 0].min() == pytest.approx(0.5 * dp) and beam[:, 0].max() == pytest.approx(39.5 * dp)
+    assert clamp[:, 0].max() == pytest.approx(-0.5 * dp) and clamp[:, 0].min() == pytest.approx(-3.5 * dp)
+    assert abs(beam[:, 1].mean()) < 1e-15 and abs(beam[:, 2].mean()) < 1e-15
+    assert np.ptp(clamp[:, 2]) == pytest.approx(13 * dp)
+    # mass and density
+    assert np.allclose(s.mass, 1000.0 * dp ** 3, rtol=1e-14)
+    assert np.all(s.rho == 1000.0) and np.all(s.stress == 0.0)
+    # the tip probe: the 24 particles of the last layer, at x = 39.5 mm
+    assert len(built.probes) == 1
+    tip = built.probes[0]
+    assert tip.name == "tip" and tip.phase == "solid"
+    assert len(tip.indices) == 24
+    assert np.allclose(s.pos[tip.indices, 0], 0.0395, rtol=0, atol=1e-12)
+    assert np.all(s.movable[tip.indices])
+    assert tip.reference_position == pytest.approx([0.0395, 0.0, 0.0], abs=1e-12)
+    # initial velocity: eq. (12) along z, 0.01 m/s at x = L, 9.828 mm/s at the tip layer x = L - dp/2
+    vz_tip = s.vel[tip.indices, 2]
+    assert np.all(np.abs(vz_tip - 0.01) < 0.02 * 0.01)
+    assert np.allclose(vz_tip, cantilever_mode_velocity(0.0395, 0.04, 0.01), rtol=1e-12)
+    assert vz_tip[0] == pytest.approx(0.0098279369, rel=1e-8)
+    assert np.all(s.vel[:, :2] == 0.0)
+    assert np.all(s.vel[~s.movable] == 0.0)
+    # the profile rises monotonically from root to tip
+    order = np.argsort(beam[:, 0])
+    assert np.all(np.diff(s.vel[s.movable][order, 2]) >= -1e-15)
+    # no fluid phase
+    assert cantilever.PHASES == ("solid",)
+    assert not hasattr(built, "fluid")
+    assert np.all(built.domain_lo < s.pos.min(axis=0)) and np.all(built.domain_hi > s.pos.max(axis=0))
+
+
+def test_cantilever_build_other_resolution():
+    spec = load_scene("cantilever", ["numerics.spacing=0.0005", "geometry.length=0.01"])
+    built = cantilever.build(spec.values)
+    # beam 20 x 12 x 8, clamp 4 x 12 x (8 + 10)
+    assert built.solid.moving_count == 20 * 12 * 8
+    assert built.solid.count == 20 * 12 * 8 + 4 * 12 * 18
+    assert len(built.probes[0].indices) == 12 * 8
+
+
+# ---- references --------------------------------------------------------------------------------------------
+
+def test_clamped_free_root():
+    kl = clamped_free_mode_kl()
+    assert abs(kl - 1.8751040687) < 1e-9
+    assert abs(math.cos(kl) * math.cosh(kl) + 1.0) < 1e-13
+    assert clamped_free_mode_kl(2) == pytest.approx(4.6940911330, abs=1e-9)
+
+
+def test_mode_velocity():
+    for length, vf in ((0.04, 0.01), (0.12, -3.0), (1.0, 1.0)):
+        assert cantilever_mode_velocity(length, length, vf) == pytest.approx(vf, rel=1e-12)
+        assert abs(cantilever_mode_velocity(0.0, length, vf)) < 1e-15
+        x = np.linspace(0.0, length, 50)
+        assert np.allclose(cantilever_mode_velocity(x, length, vf) / vf,
+                           cantilever_mode_velocity(x / length, 1.0, 1.0), rtol=1e-12, atol=1e-15)
+
+
+def test_frequencies_against_reference_csv():
+    rows = read_reference_csv("cantilever_frequencies.csv")
+    assert [r["L_mm"] for r in rows] == [40.0, 60.0, 80.0, 100.0, 120.0]
+    for row in rows:
+        length = row["L_mm"] * 1e-3
+        eb = beam_theory_frequency(length, 0.004, 1.859e6, 1000.0)
+        eq15 = plate_frequency_eq15(length, 0.004, 1.859e6, 0.49, 1000.0)
+        assert abs(eb - row["eb_Hz"]) < 1e-3 * row["eb_Hz"], (row, eb)
+        assert abs(eq15 - row["eq15_Hz"]) < 1e-3 * row["eq15_Hz"], (row, eq15)
+        fe, label = fe3d_frequency(length, 0.004, 0.006, 1.859e6, 0.49, 1000.0)
+        if row["fe3d_extrapolated_Hz"] is not None:
+            assert (fe, label) == (row["fe3d_extrapolated_Hz"], "fe3d_extrapolated")
+        else:
+            assert (fe, label) == (row["fe3d_1mm_Hz"], "fe3d_1mm")
+    # frequencies scale as 1 / L^2
+    assert beam_theory_frequency(0.08, 0.004, 1.859e6, 1000.0) == pytest.approx(
+        beam_theory_frequency(0.04, 0.004, 1.859e6, 1000.0) / 4.0, rel=1e-14)
+
+
+def test_fe3d_reference():
+    rows = read_reference_csv("cantilever_frequencies.csv")
+    f40 = rows[0]["fe3d_extrapolated_Hz"]
+    assert f40 == 17.58
+    assert fe3d_frequency(0.04, 0.004, 0.006, 1.859e6, 0.49, 1000.0) == (f40, "fe3d_extrapolated")
+    fe, label = fe3d_frequency(0.04, 0.004, 0.006, 4 * 1.859e6, 0.49, 1000.0)
+    assert fe == pytest.approx(2.0 * f40, rel=1e-14) and label == "fe3d_extrapolated"
+    fe, _ = fe3d_frequency(0.04, 0.004, 0.006, 1.859e6, 0.49, 1100.0)
+    assert fe == pytest.approx(f40 * math.sqrt(1000.0 / 1100.0), rel=1e-14)
+    for args in ((0.04, 0.004, 0.008, 1.859e6, 0.49, 1000.0), (0.04, 0.005, 0.006, 1.859e6, 0.49, 1000.0),
+                 (0.04, 0.004, 0.006, 1.859e6, 0.3, 1000.0)):
+        fe, reason = fe3d_frequency(*args)
+        assert fe is None and "no 3D reference" in reason
+    fe, reason = fe3d_frequency(0.05, 0.004, 0.006, 1.859e6, 0.49, 1000.0)
+    assert fe is None and "length" in reason
+    refs = references.cantilever_references(0.04, 0.004, 0.006, 1.859e6, 0.49, 1000.0)
+    assert refs["judged_against"] == "fe3d" and refs["reference_hz"] == f40
+    refs = references.cantilever_references(0.04, 0.004, 0.008, 1.859e6, 0.49, 1000.0)
+    assert refs["judged_against"] == "euler_bernoulli" and refs["reference_hz"] == refs["euler_bernoulli_hz"]
+
+
+def test_reference_data_provenance_and_copies():
+    files = sorted(p for p in references.DATA_DIR.iterdir() if p.is_file())
+    assert len(files) >= 5
+    for p in files:
+        first = p.read_text().splitlines()[0]
+        assert first.startswith("#") and len(first) > 20, f"{p.name}: first line is not a source citation"
+    if SHARED_REFERENCE.is_dir():
+        for p in files:
+            original = SHARED_REFERENCE / p.name
+            assert original.is_file(), f"{p.name} has no original in {SHARED_REFERENCE}"
+            assert p.read_bytes() == original.read_bytes(), f"{p.name} differs from {original}"
+
+
+# ---- YAML loading ------------------------------------------------------------------------------------------
+
+def _write(tmp_path, text, name="scene.yaml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return str(p)
+
+
+def test_yaml12_floats(tmp_path):
+    text = CANTILEVER_YAML.replace("young_modulus: 1.859e6", "young_modulus: 2e6")
+    assert "young_modulus: 2e6" in text
+    spec = load_scene(_write(tmp_path, text))
+    assert spec["solid.young_modulus"] == 2e6 and isinstance(spec["solid.young_modulus"], float)
+    spec = load_scene("cantilever", ["solid.young_modulus=3E+6", "solid.density=1.1e3"])
+    assert spec["solid.young_modulus"] == 3e6 and spec["solid.density"] == 1100.0
+
+
+def test_file_and_override_order(tmp_path):
+    text = CANTILEVER_YAML.replace("poisson_ratio: 0.49", "poisson_ratio: 0.45")
+    path = _write(tmp_path, text, "my_beam.yaml")
+    spec = load_scene(path)
+    assert spec["solid.poisson_ratio"] == 0.45
+    assert spec["solid.cfl"] == 0.25                       # schema default
+    assert spec["scene.end_time"] == 0.6                    # file (and builder default)
+    spec = load_scene(path, ["solid.poisson_ratio=0.3"])
+    assert spec["solid.poisson_ratio"] == 0.3
+    spec2 = spec.with_overrides({"solid.young_modulus": 1e6})
+    assert spec2["solid.poisson_ratio"] == 0.3 and spec2["solid.young_modulus"] == 1e6
+    # a minimal file: the builder from the file name, everything else by default
+    spec = load_scene(_write(tmp_path, "solid:\n  density: 1200.0\n", "cantilever.yaml"))
+    assert spec.builder == "cantilever" and spec["solid.density"] == 1200.0 and spec["geometry.length"] == 0.04
+
+
+def _replace(old, new):
+    assert old in CANTILEVER_YAML, old
+    return CANTILEVER_YAML.replace(old, new)
+
+
+# (id, YAML text or None for the stock file, overrides, words the message must contain)
+BAD_FILES = [
+    ("yaml_syntax", "scene: [unclosed\n", [], ["not valid YAML"]),
+    ("yaml_tab_indent", "solid:\n\tdensity: 3\n", [], ["not valid YAML"]),
+    ("empty_file", "", [], ["empty"]),
+    ("comments_only", "# nothing here\n", [], ["empty"]),
+    ("top_level_list", "- solid\n- fluid\n", [], ["mapping", "list"]),
+    ("top_level_scalar", "42\n", [], ["mapping", "int"]),
+    ("section_not_mapping", CANTILEVER_YAML + "watchdog: 3\n", [], ["watchdog", "mapping"]),
+    ("nested_section", _replace("  poisson_ratio: 0.49", "  poisson_ratio:\n    value: 0.49"), [],
+     ["solid.poisson_ratio", "nested"]),
+    ("unknown_section", CANTILEVER_YAML + "bogus:\n  x: 1\n", [], ["bogus.x", "unknown"]),
+    ("unknown_key", _replace("  poisson_ratio: 0.49", "  poisson_ratio: 0.49\n  hardness: 3"), [],
+     ["solid.hardness", "unknown"]),
+    ("misspelt_key", _replace("  young_modulus: 1.859e6", "  youngs_modulus: 1.859e6"), [],
+     ["solid.youngs_modulus", "did you mean solid.young_modulus"]),
+    ("misspelt_key_2", _replace("  spacing: 0.001", "  spacnig: 0.001"), [],
+     ["numerics.spacnig", "did you mean numerics.spacing"]),
+    ("duplicate_key", _replace("  poisson_ratio: 0.49", "  poisson_ratio: 0.49\n  poisson_ratio: 0.3"), [],
+     ["poisson_ratio", "duplicate"]),
+    ("duplicate_section", CANTILEVER_YAML + "solid:\n  density: 900.0\n", [], ["solid", "duplicate"]),
+    ("fluid_section_in_cantilever", CANTILEVER_YAML + "fluid:\n  density: 1000.0\n", [], ["fluid.density"]),
+    ("unknown_builder", _replace("builder: cantilever", "builder: dam_break_xyz"), [],
+     ["scene.builder", "allowed", "cantilever"]),
+    ("builder_not_string", _replace("builder: cantilever", "builder: 3"), [], ["scene.builder"]),
+    ("string_for_float", _replace("young_modulus: 1.859e6", "young_modulus: stiff"), [],
+     ["solid.young_modulus", "allowed"]),
+    ("yaml11_nan_word", _replace("young_modulus: 1.859e6", "young_modulus: nan"), [],
+     ["solid.young_modulus", "allowed"]),
+    ("list_for_float", _replace("density: 1000.0", "density: [1000.0, 2.0]"), [], ["solid.density", "allowed"]),
+    ("float_for_int", _replace("clamp_layers: 4", "clamp_layers: 2.5"), [], ["geometry.clamp_layers", "allowed"]),
+    ("bool_for_int", _replace("clamp_layers: 4", "clamp_layers: true"), [], ["geometry.clamp_layers", "allowed"]),
+    ("bool_for_float", _replace("density: 1000.0", "density: yes"), [], ["solid.density", "allowed"]),
+    ("negative", _replace("young_modulus: 1.859e6", "young_modulus: -1.859e6"), [],
+     ["solid.young_modulus", "allowed"]),
+    ("zero", _replace("young_modulus: 1.859e6", "young_modulus: 0"), [], ["solid.young_modulus", "allowed"]),
+    ("nan", _replace("young_modulus: 1.859e6", "young_modulus: .nan"), [], ["solid.young_modulus", "allowed"]),
+    ("inf", _replace("density: 1000.0", "density: .inf"), [], ["solid.density", "allowed"]),
+    ("minus_inf", _replace("tip_velocity: 0.01", "tip_velocity: -.inf"), [], ["geometry.tip_velocity", "allowed"]),
+    ("nu_half", _replace("poisson_ratio: 0.49", "poisson_ratio: 0.5"), [], ["solid.poisson_ratio", "allowed"]),
+    ("nu_0.6", _replace("poisson_ratio: 0.49", "poisson_ratio: 0.6"), [], ["solid.poisson_ratio", "allowed"]),
+    ("gravity_two_components", _replace("gravity: [0.0, 0.0, 0.0]", "gravity: [0.0, -9.81]"), [],
+     ["scene.gravity", "allowed"]),
+    ("gravity_nan_component", _replace("gravity: [0.0, 0.0, 0.0]", "gravity: [0.0, 0.0, .nan]"), [],
+     ["scene.gravity", "allowed"]),
+    ("gravity_scalar", _replace("gravity: [0.0, 0.0, 0.0]", "gravity: -9.81"), [], ["scene.gravity", "allowed"]),
+    ("end_time_zero", _replace("end_time: 0.6", "end_time: 0"), [], ["scene.end_time", "allowed"]),
+    ("smoothing_ratio_3", _replace("smoothing_ratio: 1.3", "smoothing_ratio: 3"), [],
+     ["numerics.smoothing_ratio", "allowed"]),
+    ("spacing_above_thickness", _replace("spacing: 0.001", "spacing: 0.005"), [],
+     ["numerics.spacing", "geometry.thickness", "allowed"]),
+    ("spacing_equal_to_thickness", _replace("spacing: 0.001", "spacing: 0.004"), [],
+     ["numerics.spacing", "geometry.thickness", "allowed"]),
+    ("length_not_multiple", _replace("length: 0.04 ", "length: 0.0405 "), [], ["geometry.length", "allowed"]),
+    ("scene_name_number", _replace("name: cantilever", "name: 5"), [], ["scene.name", "allowed"]),
+    # overrides
+    ("set_negative_modulus", None, ["solid.young_modulus=-1"], ["solid.young_modulus", "allowed"]),
+    ("set_modulus_too_large", None, ["solid.young_modulus=1e14"], ["solid.young_modulus", "allowed"]),
+    ("set_overflow_inf", None, ["solid.young_modulus=1e999"], ["solid.young_modulus", "allowed"]),
+    ("set_empty_value", None, ["solid.young_modulus="], ["solid.young_modulus", "allowed"]),
+    ("set_nu_half", None, ["solid.poisson_ratio=0.5"], ["solid.poisson_ratio", "allowed"]),
+    ("set_nu_negative", None, ["solid.poisson_ratio=-0.1"], ["solid.poisson_ratio", "allowed"]),
+    ("set_neighbour_skin_zero", None, ["numerics.neighbour_skin=0"], ["numerics.neighbour_skin", "allowed"]),
+    ("set_end_time_negative", None, ["scene.end_time=-1"], ["scene.end_time", "allowed"]),
+    ("set_exponent_zero", None, ["solid.artificial_stress_exponent=0"],
+     ["solid.artificial_stress_exponent", "allowed"]),
+    ("set_energy_growth_one", None, ["watchdog.energy_growth=1"], ["watchdog.energy_growth", "allowed"]),
+    ("set_spacing_not_divisor", None, ["numerics.spacing=0.0015"], ["numerics.spacing", "allowed"]),
+    ("set_width_below_spacing", None, ["geometry.width=0.0005"], ["geometry.width", "allowed"]),
+    ("set_fluid_key", None, ["fluid.density=1000"], ["fluid.density"]),
+    ("set_unknown_builder", None, ["scene.builder=foo"], ["scene.builder", "allowed"]),
+    ("set_without_equals", None, ["solid.young_modulus"], ["--set", "solid.young_modulus", "KEY=VALUE"]),
+    ("set_colon_not_equals", None, ["solid.young_modulus: 3"], ["--set", "KEY=VALUE"]),
+    ("set_key_without_section", None, ["young_modulus=3"], ["--set", "young_modulus", "section.name"]),
+    ("set_key_upper_case", None, ["Solid.density=3"], ["--set", "Solid.density", "section.name"]),
+    ("set_bad_yaml_value", None, ["solid.density=[1,"], ["solid.density", "not valid YAML"]),
+]
+
+
+@pytest.mark.parametrize("case", BAD_FILES, ids=[c[0] for c in BAD_FILES])
+def test_bad_input_raises_scene_error(tmp_path, case):
+    _, text, overrides, words = case
+    source = "cantilever" if text is None else _write(tmp_path, text)
+    with pytest.raises(SceneError) as info:
+        load_scene(source, overrides)
+    message = str(info.value)
+    for word in words:
+        assert word in message, f"{word!r} not in {message!r}"
+
+
+def test_bad_input_table_is_large():
+    assert len(BAD_FILES) >= 30
+
+
+def test_unknown_scene_name_and_missing_file(tmp_path):
+    with pytest.raises(SceneError, match="no such built-in scene.*allowed.*cantilever"):
+        load_scene("no_such_scene")
+    with pytest.raises(SceneError, match="not found"):
+        load_scene(str(tmp_path / "missing.yaml"))
+
+
+def test_time_step_above_stable_limit_is_refused():
+    from sph_fsi_core.simulation import Simulation
+    spec = load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-3"])
+    assert spec["solid.time_step"] == 1e-3       # in range for the schema; the stability check is the simulation's
+    with pytest.raises(SceneError) as info:
+        Simulation(spec)
+    message = str(info.value)
+    assert "solid.time_step" in message and "allowed" in message
+    # a step below the limit (0.25 * 1.3 mm / 176 m/s = 1.85e-6 s) is accepted
+    sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-6"]))
+    assert sim.stable_solid_dt() == pytest.approx(0.25 * 1.3e-3 / (176.0208 + 0.01), rel=1e-4)
+    assert sim.solid.count == 4 * 24 + 336
+
+
+# ---- config/defaults.yaml ----------------------------------------------------------------------------------
+
+def test_defaults_yaml_is_current():
+    path = REPO / "config" / "defaults.yaml"
+    assert path.is_file(), "config/defaults.yaml missing: python -m sph_fsi.cli keys --yaml > config/defaults.yaml"
+    assert path.read_text() == defaults_yaml(), \
+        "config/defaults.yaml is stale: python -m sph_fsi.cli keys --yaml > config/defaults.yaml"
+
+
+def test_defaults_yaml_parses_to_the_schema_defaults():
+    from sph_fsi_core.scene import parse_yaml
+    from sph_fsi_core.schema import COMMON, SOLID
+    tree = parse_yaml(defaults_yaml())
+    for p in COMMON + SOLID:
+        section, name = p.key.split(".", 1)
+        value = tree[section][name]
+        default = list(p.default) if isinstance(p.default, tuple) else p.default
+        assert value == default and type(value) is type(default), (p.key, value, default)
+
+
+def test_builtin_scenes_load():
+    from sph_fsi_core.scene import builtin_scenes
+    scenes = builtin_scenes()
+    assert "cantilever" in scenes and "defaults" not in scenes
+    for name, path in scenes.items():
+        spec = load_scene(str(path))
+        assert spec.builder in BUILDERS
+
+
+# ---- command line ------------------------------------------------------------------------------------------
+
+def test_cli_bad_poisson_ratio(capsys):
+    assert main(["run", "cantilever", "--set", "solid.poisson_ratio=0.5"]) == 2
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "solid.poisson_ratio" in lines[0] and "allowed" in lines[0]
+    assert out == ""
+
+
+def test_cli_scenes(capsys):
+    assert main(["scenes"]) == 0
+    out, _ = capsys.readouterr()
+    names = [line.split()[0] for line in out.strip().splitlines()]
+    assert "cantilever" in names
+    assert "(default)" in [line for line in out.splitlines() if line.startswith("cantilever")][0]
+
+
+def test_cli_unwritable_out(capsys):
+    # tiny scene and end time, so that even a broken check could not start a long run
+    code = main(["run", "cantilever", "--set", "geometry.length=0.004", "--end-time", "1e-5",
+                 "--out", "/proc/forbidden"])
+    assert code == 2
+    _, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "--out" in lines[0] and "/proc/forbidden" in lines[0]
+
+
+def test_cli_yaml_syntax_error_is_one_line(tmp_path, capsys):
+    """cli.py promises one line on bad input; a YAML syntax error's message (PyYAML's) spans several."""
+    path = _write(tmp_path, "scene: [unclosed\n")
+    assert main(["run", path, "--out", str(tmp_path / "out")]) == 2
+    _, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert "not valid YAML" in lines[0]
+    assert len(lines) == 1, err
+
+
+def test_cli_keys(capsys):
+    assert main(["keys", "cantilever"]) == 0
+    out, _ = capsys.readouterr()
+    keys = [line.split()[0] for line in out.strip().splitlines()]
+    assert "solid.young_modulus" in keys and "geometry.length" in keys
+    assert not any(k.startswith("fluid.") for k in keys)
+    assert main(["keys", "--yaml"]) == 0
+    out, _ = capsys.readouterr()
+    assert out == defaults_yaml()
