@@ -27,6 +27,7 @@ setup(
     entry_points={
         'console_scripts': [
             'sph-fsi = sph_fsi.cli:main',
+            'sph_fsi_node = sph_fsi.node:main',
         ],
     },
 )

@@ -43,3 +43,19 @@ def cubic_spline_f(r, h):
     if q < 1e-12:
         return -3.0 * sigma_h2
     return (-0.75 * t2 * t2 + 3.0 * t1 * t1) / q * sigma_h2
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def cubic_spline_wf(r, inv_h, sigma):
+    """(W, F) together for one pair, sharing q and the two truncated powers; inv_h = 1/h, sigma = 1/(pi h^3).
+
+    The same values as cubic_spline_w and cubic_spline_f up to rounding, with one division instead of four:
+    this is the form the per-step pair passes use.
+    """
+    q = r * inv_h
+    t2 = max(2.0 - q, 0.0)
+    t1 = max(1.0 - q, 0.0)
+    w = sigma * (0.25 * t2 * t2 * t2 - t1 * t1 * t1)
+    if q < 1e-12:
+        return w, -3.0 * sigma * inv_h * inv_h
+    return w, sigma * inv_h * (-0.75 * t2 * t2 + 3.0 * t1 * t1) / r

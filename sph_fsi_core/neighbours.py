@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .kernels import cubic_spline_f, cubic_spline_w
+from .kernels import cubic_spline_wf
 
 MAX_CELLS_PER_AXIS = 1024
 MIN_CELL_BUDGET = 1 << 20   # the grid may hold max(MIN_CELL_BUDGET, 8 N) cells
@@ -131,15 +131,15 @@ def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutof
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def pair_kernel_values(targets, sources, start, index, h, period, w, f):
     """Pair cache for one configuration: W_ab and F_ab = (dW/dr)/r (eq. (1)'s kernel), r_ab by minimum image."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
     for a in prange(targets.shape[0]):
         for s in range(start[a], start[a + 1]):
             b = index[s]
             dx = minimum_image(targets[a, 0] - sources[b, 0], period[0])
             dy = minimum_image(targets[a, 1] - sources[b, 1], period[1])
             dz = minimum_image(targets[a, 2] - sources[b, 2], period[2])
-            r = math.sqrt(dx * dx + dy * dy + dz * dz)
-            w[s] = cubic_spline_w(r, h)
-            f[s] = cubic_spline_f(r, h)
+            w[s], f[s] = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)

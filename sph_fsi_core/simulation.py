@@ -29,6 +29,7 @@ class Simulation:
     def __init__(self, spec: SceneSpec):
         self.spec = spec
         self.builder = BUILDERS[spec.builder]
+        self._pending = {}
         self._build()
 
     # ---- construction -------------------------------------------------------------------------------------
@@ -58,22 +59,30 @@ class Simulation:
             self._solid_acceleration()
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
 
-    def _apply_solid_settings(self):
-        v = self.spec.values
-        self.bulk_modulus, self.shear_modulus, self.sound_speed = material_constants(
-            v["solid.young_modulus"], v["solid.poisson_ratio"], v["solid.density"])
-        self.solid_params = make_params(
-            h=self.h, spacing=self.spacing, density=v["solid.density"], c0=self.sound_speed,
-            shear_modulus=self.shear_modulus, xsph_eps=v["solid.xsph_epsilon"],
-            alpha=v["solid.artificial_viscosity_alpha"], beta=v["solid.artificial_viscosity_beta"],
-            art_eps=v["solid.artificial_stress_epsilon"], art_exponent=v["solid.artificial_stress_exponent"],
-            gravity=v["scene.gravity"], skin=v["numerics.neighbour_skin"] * self.h)
+    def _solid_settings(self, spec):
+        """Material constants and pass parameters of `spec`, without touching the state.
+
+        SceneError if a forced solid.time_step is above the stable limit for the current velocities.
+        """
+        v = spec.values
+        bulk, shear, c0 = material_constants(v["solid.young_modulus"], v["solid.poisson_ratio"],
+                                             v["solid.density"])
+        params = make_params(
+            h=self.h, spacing=self.spacing, density=v["solid.density"], c0=c0, shear_modulus=shear,
+            xsph_eps=v["solid.xsph_epsilon"], alpha=v["solid.artificial_viscosity_alpha"],
+            beta=v["solid.artificial_viscosity_beta"], art_eps=v["solid.artificial_stress_epsilon"],
+            art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
+            skin=v["numerics.neighbour_skin"] * self.h)
         forced = v["solid.time_step"]
-        limit = self.stable_solid_dt()
+        limit = self._stable_dt(v["solid.cfl"], c0)
         if forced > limit:
             raise SceneError(f"solid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
-                             f"(solid.cfl * h / c0 with c0 = {self.sound_speed:.4g} m/s); "
+                             f"(solid.cfl * h / (c0 + |v|max) with c0 = {c0:.4g} m/s); "
                              f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
+        return bulk, shear, c0, params
+
+    def _apply_solid_settings(self):
+        self.bulk_modulus, self.shear_modulus, self.sound_speed, self.solid_params = self._solid_settings(self.spec)
 
     def _rebuild_solid_neighbours(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
@@ -89,40 +98,52 @@ class Simulation:
                            wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf)
 
     # ---- settings ------------------------------------------------------------------------------------------
+    def check(self, overrides):
+        """Validate {key: value} against the schema, the scene and the running state, changing nothing.
+
+        Returns (spec with the live keys applied, keys that wait for the next reset). Raises SceneError.
+        """
+        pending = {**self._pending, **overrides}
+        self.spec.with_overrides(pending)           # the whole set must make a valid scene
+        deferred = [k for k in overrides if self.spec.schema.params[k].rebuild]
+        live_spec = self.spec.with_overrides({k: v for k, v in overrides.items() if k not in deferred})
+        if self.solid is not None:
+            self._solid_settings(live_spec)
+        return live_spec, deferred
+
     def apply(self, overrides):
         """Apply {key: value}: live keys take effect now; keys that need a rebuild wait for reset().
 
-        Returns the keys deferred to the next reset. Raises SceneError (state unchanged) on a bad value.
+        Returns the keys deferred to the next reset; earlier deferred changes are kept. Raises SceneError
+        (state unchanged) on a bad value.
         """
-        new_spec = self.spec.with_overrides(overrides)
-        deferred = [k for k in overrides if new_spec.schema.params[k].rebuild]
-        live = {k: v for k, v in overrides.items() if k not in deferred}
-        if live:
-            old = self.spec
-            self.spec = old.with_overrides(live)
-            try:
-                if self.solid is not None:
-                    self._apply_solid_settings()
-            except SceneError:
-                self.spec = old
-                self._apply_solid_settings()
-                raise
-        self._pending = new_spec if deferred else None
+        live_spec, deferred = self.check(overrides)
+        self._pending.update({k: overrides[k] for k in deferred})
+        self.spec = live_spec
+        if self.solid is not None:
+            self._apply_solid_settings()
         return deferred
+
+    @property
+    def pending(self):
+        """Changes accepted but waiting for reset(), {key: value}."""
+        return dict(self._pending)
 
     def reset(self):
         """Rebuild from the current settings (including changes that were waiting for a reset), back to t = 0."""
-        pending = getattr(self, "_pending", None)
-        if pending is not None:
-            self.spec = pending
-            self._pending = None
+        if self._pending:
+            self.spec = self.spec.with_overrides(self._pending)
+            self._pending = {}
         self._build()
 
     # ---- time stepping ------------------------------------------------------------------------------------
+    def _stable_dt(self, cfl, sound_speed):
+        vmax = float(np.sqrt((self.solid.vel ** 2).sum(axis=1).max())) if self.solid.count else 0.0
+        return cfl * self.h / (sound_speed + vmax)
+
     def stable_solid_dt(self):
         """dt = cfl * h / (c0 + |v|max), the solid's acoustic limit (METHOD sec. 1)."""
-        vmax = float(np.sqrt((self.solid.vel ** 2).sum(axis=1).max())) if self.solid.count else 0.0
-        return self.spec["solid.cfl"] * self.h / (self.sound_speed + vmax)
+        return self._stable_dt(self.spec["solid.cfl"], self.sound_speed)
 
     def _solid_dt(self):
         limit = self.stable_solid_dt()

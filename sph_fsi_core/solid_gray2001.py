@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .kernels import cubic_spline_f, cubic_spline_w
+from .kernels import cubic_spline_wf
 from .neighbours import minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
@@ -241,6 +241,8 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
     it in the pair cache (w, f) for the next step's velocity passes.
     """
     eta2 = 0.01 * h * h
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
     use_art = art_exponent > 0
     n = vel.shape[0]
     chunks = buf.shape[0]
@@ -256,8 +258,7 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
                 rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
                 r2 = rx * rx + ry * ry + rz * rz
                 r = math.sqrt(r2)
-                wab = cubic_spline_w(r, h)
-                fab = cubic_spline_f(r, h)
+                wab, fab = cubic_spline_wf(r, inv_h, sigma)
                 w[s] = wab
                 f[s] = fab
                 txx = sigma_over_rho2[a, XX] + sigma_over_rho2[b, XX]

@@ -1,9 +1,10 @@
 """Gray's artificial stress against the tensile instability (METHOD sec. 1).
 
-A short beam thrown hard into its first mode (free-end speed 3 m/s, a few per cent of bending strain at the
-root) puts the particles near its surfaces under strong tension. Without the artificial stress, tension makes
-SPH particles pair up (the tensile instability): neighbours close in far below the lattice spacing. With it, the
-spacing stays near dp. The measure is the smallest particle distance over the run, in units of dp.
+A short beam (12 x 3 x 4 mm at 1 mm) thrown hard into its first mode (free-end speed 8 m/s, strains of tens
+of per cent) puts the particles near its surfaces under strong tension for several periods. Without the
+artificial stress, tension makes SPH particles pair up (the tensile instability): measured here, two particles
+close in to 0.10 dp. With it (eps = 0.15 or 0.3) the closest approach stays near 0.5 dp. The measure is the
+smallest particle distance over the run, in units of dp.
 """
 import numpy as np
 import pytest
@@ -13,11 +14,11 @@ from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 
 PROVOKING = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_margin=2",
-             "geometry.tip_velocity=3.0", "solid.artificial_viscosity_alpha=0.1", "output.snapshot_interval=0",
+             "geometry.tip_velocity=8.0", "solid.artificial_viscosity_alpha=0.1", "output.snapshot_interval=0",
              "output.timeseries_interval=1e-4"]
 
 
-def _closest_approach(art_eps, end_time=0.015):
+def _closest_approach(art_eps, end_time=0.03):
     spec = load_scene("cantilever", PROVOKING + [f"solid.artificial_stress_epsilon={art_eps}"])
     sim = Simulation(spec)
     dp = spec["numerics.spacing"]
@@ -37,13 +38,13 @@ def _closest_approach(art_eps, end_time=0.015):
 
 @pytest.fixture(scope="module")
 def runs():
-    return {eps: _closest_approach(eps) for eps in (0.0, 0.3)}
+    return {eps: _closest_approach(eps) for eps in (0.0, 0.15)}
 
 
 def test_artificial_stress_keeps_particles_apart(runs):
-    with_stress, outcome_with = runs[0.3]
+    with_stress, outcome_with = runs[0.15]
     without, outcome_without = runs[0.0]
     assert outcome_with == "stable"
-    assert with_stress > 0.6
+    assert with_stress > 0.4
     # without it the particles pair up, or the run is stopped by the watchdog
-    assert outcome_without != "stable" or without < 0.8 * with_stress
+    assert outcome_without != "stable" or without < 0.4 * with_stress

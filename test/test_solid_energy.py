@@ -1,6 +1,6 @@
 """Energy of the elastic solid: the artificial viscosity must remove energy (METHOD sec. 1, 'Open (sign)'), more
 with a larger alpha, and without it the leapfrog keeps the energy of a free oscillation. A short stubby beam
-(12 x 3 x 4 mm at 1 mm) swings at a few hundred Hz, so several periods cost a few seconds.
+(12 x 3 x 4 mm at 1 mm) swings at 136 Hz, so four periods cost a few seconds.
 """
 import numpy as np
 import pytest
@@ -35,11 +35,14 @@ def ratios():
 def test_artificial_viscosity_removes_energy(ratios):
     r0, r01, r1 = ratios[0.0][0], ratios[0.1][0], ratios[1.0][0]
     assert r1 < r01 < 1.0
-    assert r1 < 0.95          # alpha = 1 damps visibly within a few periods
+    assert r1 < 0.5           # measured 0.17 over four periods at alpha = 1
+    assert r01 < 0.95         # measured 0.82 at alpha = 0.1
 
 
 def test_inviscid_solid_keeps_its_energy(ratios):
-    assert abs(ratios[0.0][0] - 1.0) < 0.02
+    # measured: +1.4 % over four periods (the discrete strain energy is not exactly the potential of the SPH
+    # forces, and XSPH moves particles off their momentum velocity); with alpha = 0.1 it loses 18 %
+    assert abs(ratios[0.0][0] - 1.0) < 0.03
 
 
 def test_viscosity_does_not_shift_the_frequency(ratios):

@@ -1,0 +1,197 @@
+"""3D linear-elasticity reference frequencies of a clamped-free cantilever (optional: scikit-fem + scipy).
+
+This is how reference_data/cantilever_frequencies.csv's `fe3d_*` columns are computed: a beam L x W x H
+(x along the length, y the width, z the thickness = vertical), clamped on its whole x = 0 face, meshed with
+triquadratic (27-node) hexahedra, small-strain isotropic elasticity, consistent mass, and the generalized
+eigenproblem K u = omega^2 M u solved by shift-invert Lanczos. The core never needs this module: skfem and
+scipy are imported inside the functions that use them (requirements-dev.txt pins them).
+"""
+import math
+import time
+
+_REQUIREMENT = ("sph_fsi_core.fe_reference needs scikit-fem and scipy (optional validation dependencies, "
+                "pinned in requirements-dev.txt): pip install -r requirements-dev.txt")
+
+
+def _import_fe():
+    try:
+        import scipy.sparse.linalg as spla
+        import skfem
+        from skfem.helpers import dot
+        from skfem.models.elasticity import lame_parameters, linear_elasticity
+    except ImportError as exc:
+        raise ImportError(f"{_REQUIREMENT} ({exc})") from exc
+    return spla, skfem, dot, lame_parameters, linear_elasticity
+
+
+def euler_bernoulli_frequency(length, thickness, young_modulus, density):
+    """First clamped-free bending frequency of an Euler-Bernoulli beam bending across `thickness` (Hz)."""
+    return 1.8751040687 ** 2 / (2.0 * math.pi * length ** 2) * thickness * math.sqrt(
+        young_modulus / (12.0 * density))
+
+
+def _classify(u, doflocs, component_dofs):
+    """Mode type from an eigenvector: 'vertical' (z bending), 'sideways' (y bending), 'axial', 'torsion'.
+
+    The dominant displacement component (largest mean |u_i| over the nodes) gives the direction; a bending
+    mode moves each cross-section coherently (one sign of the dominant component per x station), a torsion
+    mode does not (u_y, u_z change sign across the section), which coherence = sum_x |sum u| / sum |u| tells.
+    """
+    import numpy as np
+    comps = [u[idx] for idx in component_dofs]
+    means = [float(np.mean(np.abs(c))) for c in comps]
+    dominant = int(np.argmax(means))
+    if dominant == 0:
+        return "axial", means, 1.0
+    c = comps[dominant]
+    x = np.round(doflocs[0, component_dofs[dominant]], 12)
+    _, station = np.unique(x, return_inverse=True)
+    net = np.abs(np.bincount(station, weights=c))
+    total = np.bincount(station, weights=np.abs(c))
+    coherence = float(net.sum() / total.sum()) if total.sum() > 0 else 0.0
+    if coherence < 0.5:
+        return "torsion", means, coherence
+    return ("sideways" if dominant == 1 else "vertical"), means, coherence
+
+
+def _assemble_uniform(skfem, np, full, intorder, forms):
+    """Global matrices of `forms` on a mesh of congruent, identically oriented elements (init_tensor).
+
+    skfem.asm evaluates each form once per pair of the 81 local basis functions, in Python: ~30 s per matrix
+    for the 1 mm mesh at L = 40 mm. Here the element matrices are assembled by skfem on element 0 only and
+    scattered to every element, which is exact when each element is a translate of element 0 with the same
+    local vertex order (checked; otherwise this falls back to skfem.asm on the whole mesh).
+    """
+    import scipy.sparse as sp
+    mesh = full.mesh
+    offsets = mesh.p[:, mesh.t] - mesh.p[:, mesh.t[:1]]           # (dim, vertices per element, elements)
+    scale = float(np.max(np.abs(offsets[..., 0])))
+    if not np.allclose(offsets, offsets[..., :1], rtol=0.0, atol=1e-9 * scale):
+        return tuple(skfem.asm(form, full) for form in forms)
+    first = skfem.Basis(mesh, full.elem, intorder=intorder, elements=np.array([0]))
+    local = full.element_dofs[:, 0]
+    dofs = full.element_dofs.astype(np.int64)                     # (local dofs, elements)
+    n_local, n_elem = dofs.shape
+    rows = np.broadcast_to(dofs[:, None, :], (n_local, n_local, n_elem)).ravel()
+    cols = np.broadcast_to(dofs[None, :, :], (n_local, n_local, n_elem)).ravel()
+    matrices = []
+    for form in forms:
+        ke = skfem.asm(form, first).tocsr()[local][:, local].toarray()
+        values = np.broadcast_to(ke[:, :, None], (n_local, n_local, n_elem)).ravel()
+        matrices.append(sp.coo_matrix((values, (rows, cols)), shape=(full.N, full.N)).tocsr())
+    return tuple(matrices)
+
+
+def cantilever_fe_frequency(length, thickness, width, young_modulus, poisson_ratio, density,
+                            element_size=1e-3, modes=6):
+    """Lowest vertical (z) and sideways (y) bending frequencies (Hz) of a clamped-free 3D elastic beam.
+
+    Mesh: [0, length] x [0, width] x [0, thickness] in hexahedra, round(extent / element_size) (>= 1) per
+    direction, ElementVector(ElementHex2()); Dirichlet u = 0 on every DOF of the x = 0 face; `modes` lowest
+    eigenpairs by scipy eigsh in shift-invert mode. Returns a dict: vertical_hz, sideways_hz (None when not
+    among the `modes` computed), frequencies_hz and mode_types of all modes, dofs (free DOFs), total_dofs,
+    elements (nx, ny, nz), assembly_time_s, solve_time_s (eigensolve incl. factorization), sigma.
+    """
+    import numpy as np
+    spla, skfem, dot, lame_parameters, linear_elasticity = _import_fe()
+
+    t0 = time.perf_counter()
+    counts = tuple(max(1, int(round(extent / element_size))) for extent in (length, width, thickness))
+    mesh = skfem.MeshHex.init_tensor(np.linspace(0.0, length, counts[0] + 1),
+                                     np.linspace(0.0, width, counts[1] + 1),
+                                     np.linspace(0.0, thickness, counts[2] + 1))
+    element = skfem.ElementVector(skfem.ElementHex2())
+    # 3 x 3 x 3 Gauss points: exact for these box elements (Q2 stiffness and mass integrands are of degree
+    # <= 4 in each coordinate); skfem's default for Hex2 is 7 x 7 x 7, same matrices at ~13x the cost.
+    intorder = 4
+
+    @skfem.BilinearForm
+    def mass(u, v, _):
+        return density * dot(u, v)
+
+    elasticity = linear_elasticity(*lame_parameters(young_modulus, poisson_ratio))
+    basis = skfem.Basis(mesh, element, intorder=intorder)
+    stiffness, mass_matrix = _assemble_uniform(skfem, np, basis, intorder, (elasticity, mass))
+    clamped = basis.get_dofs(lambda p: p[0] <= 1e-9 * length).all()
+    free = basis.complement_dofs(clamped)
+    k_ff = stiffness[free][:, free].tocsc()
+    m_ff = mass_matrix[free][:, free].tocsc()
+    t1 = time.perf_counter()
+
+    # Shift below the lowest mode (K is positive definite once clamped): the `modes` eigenvalues nearest
+    # sigma are then the lowest ones, and K - sigma M stays well conditioned.
+    omega_eb = 2.0 * math.pi * euler_bernoulli_frequency(length, min(thickness, width), young_modulus, density)
+    sigma = -0.25 * omega_eb ** 2
+    k = min(modes, k_ff.shape[0] - 1)
+    eigenvalues, vectors = spla.eigsh(k_ff, k=k, M=m_ff, sigma=sigma, which="LM")
+    t2 = time.perf_counter()
+
+    order = np.argsort(eigenvalues)
+    eigenvalues, vectors = eigenvalues[order], vectors[:, order]
+    component_dofs = basis.split_indices()
+    frequencies, types = [], []
+    vertical = sideways = None
+    for i in range(len(eigenvalues)):
+        f = math.sqrt(max(float(eigenvalues[i]), 0.0)) / (2.0 * math.pi)
+        u = np.zeros(basis.N)
+        u[free] = vectors[:, i]
+        kind, _, _ = _classify(u, basis.doflocs, component_dofs)
+        frequencies.append(f)
+        types.append(kind)
+        if kind == "vertical" and vertical is None:
+            vertical = f
+        elif kind == "sideways" and sideways is None:
+            sideways = f
+    return {
+        "vertical_hz": vertical,
+        "sideways_hz": sideways,
+        "frequencies_hz": frequencies,
+        "mode_types": types,
+        "dofs": int(len(free)),
+        "total_dofs": int(basis.N),
+        "elements": counts,
+        "assembly_time_s": t1 - t0,
+        "solve_time_s": t2 - t1,
+        "sigma": sigma,
+    }
+
+
+def extrapolated_frequency(sizes, freqs):
+    """Richardson extrapolation to zero element size from three meshes, assuming f(s) = f0 + C s^p.
+
+    Solves (f1 - f2) / (f2 - f3) = (s1^p - s2^p) / (s2^p - s3^p) for p by bisection (the right-hand side
+    grows monotonically with p for s1 > s2 > s3 > 0), then C and f0. Returns (f0, p). Sizes need not be in a
+    constant ratio; raises ValueError when the data are not monotone in s (no such p exists).
+    """
+    if len(sizes) != 3 or len(freqs) != 3:
+        raise ValueError("need exactly three (size, frequency) pairs")
+    (s1, f1), (s2, f2), (s3, f3) = sorted(zip(sizes, freqs), key=lambda sf: -sf[0])
+    if not s1 > s2 > s3 > 0.0:
+        raise ValueError("element sizes must be positive and distinct")
+    d12, d23 = f1 - f2, f2 - f3
+    if d12 == 0.0 or d23 == 0.0 or (d12 > 0) != (d23 > 0):
+        raise ValueError("frequencies are not monotone in the element size: no f0 + C s^p fit")
+    target = math.log(d12 / d23)
+
+    def log_ratio(p):  # log((s1^p - s2^p) / (s2^p - s3^p)), written to stay finite for large p
+        a, b = p * math.log(s2 / s1), p * math.log(s3 / s2)
+        return p * math.log(s1 / s2) + math.log(-math.expm1(a)) - math.log(-math.expm1(b))
+
+    lo, hi = 1e-6, 1.0
+    while log_ratio(hi) < target:
+        hi *= 2.0
+        if hi > 1e3:
+            raise ValueError("order of convergence above 1000: data not of the form f0 + C s^p")
+    if log_ratio(lo) > target:
+        raise ValueError("order of convergence below 1e-6: data not of the form f0 + C s^p")
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if log_ratio(mid) < target:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-15 * hi:
+            break
+    p = 0.5 * (lo + hi)
+    c = d12 / (s1 ** p - s2 ** p)
+    return f1 - c * s1 ** p, p

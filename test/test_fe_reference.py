@@ -1,0 +1,70 @@
+"""The 3D finite-element reference of the cantilever (sph_fsi_core.fe_reference) against the stored table.
+
+scikit-fem and scipy are optional for the core but pinned in requirements-dev.txt (which `make test` installs):
+when they are missing these tests fail, they do not skip. Runtime: ~10 s (one 1 mm and two 2 mm meshes).
+"""
+import math
+
+import pytest
+
+from sph_fsi_core.fe_reference import cantilever_fe_frequency, extrapolated_frequency
+from sph_fsi_core.references import read_reference_csv
+
+# The table's case (header of reference_data/cantilever_frequencies.csv).
+CASE = dict(thickness=0.004, width=0.006, young_modulus=1.859e6, poisson_ratio=0.49, density=1000.0)
+
+
+def _table_row(length_mm):
+    rows = [r for r in read_reference_csv("cantilever_frequencies.csv") if abs(r["L_mm"] - length_mm) < 1e-9]
+    assert len(rows) == 1
+    return rows[0]
+
+
+@pytest.fixture(scope="module")
+def fe_1mm():
+    return cantilever_fe_frequency(0.040, element_size=1e-3, **CASE)
+
+
+@pytest.fixture(scope="module")
+def fe_2mm():
+    return cantilever_fe_frequency(0.040, element_size=2e-3, **CASE)
+
+
+def test_fe_dependencies_installed():
+    try:
+        import scipy.sparse.linalg  # noqa: F401
+        import skfem  # noqa: F401
+    except ImportError as exc:
+        pytest.fail(f"scikit-fem / scipy missing (pip install -r requirements-dev.txt): {exc}")
+
+
+def test_1mm_mesh_reproduces_table(fe_1mm):
+    expected = _table_row(40)["fe3d_1mm_Hz"]
+    assert fe_1mm["elements"] == (40, 6, 4)
+    assert fe_1mm["vertical_hz"] == pytest.approx(expected, rel=2e-3)
+    # METHOD: 26.1 Hz sideways (extrapolated); bending about the wider side, ~W/H = 1.5 x the vertical one.
+    assert 24.0 < fe_1mm["sideways_hz"] < 28.0
+    assert fe_1mm["mode_types"][:2] == ["vertical", "sideways"]
+
+
+def test_frequency_scales_as_sqrt_young_modulus(fe_2mm):
+    stiffer = cantilever_fe_frequency(0.040, element_size=2e-3, **dict(CASE, young_modulus=2 * CASE["young_modulus"]))
+    assert stiffer["vertical_hz"] / fe_2mm["vertical_hz"] == pytest.approx(math.sqrt(2.0), rel=1e-6)
+    assert stiffer["sideways_hz"] / fe_2mm["sideways_hz"] == pytest.approx(math.sqrt(2.0), rel=1e-6)
+
+
+def test_coarser_mesh_is_stiffer(fe_1mm, fe_2mm):
+    assert fe_2mm["vertical_hz"] > fe_1mm["vertical_hz"]
+    assert fe_2mm["sideways_hz"] > fe_1mm["sideways_hz"]
+
+
+def test_extrapolation_recovers_synthetic_limit_and_order():
+    sizes = [2.0, 1.0, 2.0 / 3.0]
+    f0, p = extrapolated_frequency(sizes, [17.58 + 0.3 * s ** 1.5 for s in sizes])
+    assert f0 == pytest.approx(17.58, abs=1e-8)
+    assert p == pytest.approx(1.5, abs=1e-8)
+    # Order of the inputs does not matter; convergence from below works too.
+    f0, p = extrapolated_frequency(sizes[::-1], [5.0 - 2.0 * s ** 2 for s in sizes[::-1]])
+    assert (f0, p) == (pytest.approx(5.0, abs=1e-10), pytest.approx(2.0, abs=1e-8))
+    with pytest.raises(ValueError):
+        extrapolated_frequency(sizes, [1.0, 2.0, 1.5])
