@@ -186,7 +186,7 @@ def test_file_and_override_order(tmp_path):
     spec = load_scene(path)
     assert spec["solid.poisson_ratio"] == 0.45
     assert spec["solid.cfl"] == 0.25                       # schema default
-    assert spec["scene.end_time"] == 0.6                    # file (and builder default)
+    assert spec["scene.end_time"] == 0.3                    # file (and builder default)
     spec = load_scene(path, ["solid.poisson_ratio=0.3"])
     assert spec["solid.poisson_ratio"] == 0.3
     spec2 = spec.with_overrides({"solid.young_modulus": 1e6})
@@ -247,7 +247,7 @@ BAD_FILES = [
     ("gravity_nan_component", _replace("gravity: [0.0, 0.0, 0.0]", "gravity: [0.0, 0.0, .nan]"), [],
      ["scene.gravity", "allowed"]),
     ("gravity_scalar", _replace("gravity: [0.0, 0.0, 0.0]", "gravity: -9.81"), [], ["scene.gravity", "allowed"]),
-    ("end_time_zero", _replace("end_time: 0.6", "end_time: 0"), [], ["scene.end_time", "allowed"]),
+    ("end_time_zero", _replace("end_time: 0.3", "end_time: 0"), [], ["scene.end_time", "allowed"]),
     ("smoothing_ratio_3", _replace("smoothing_ratio: 1.3", "smoothing_ratio: 3"), [],
      ["numerics.smoothing_ratio", "allowed"]),
     ("spacing_above_thickness", _replace("spacing: 0.001", "spacing: 0.005"), [],

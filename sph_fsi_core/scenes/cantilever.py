@@ -31,7 +31,7 @@ GEOMETRY = [
           low=-1.0e3, high=1.0e3),
 ]
 
-DEFAULTS = {"scene.end_time": 0.6, "output.timeseries_interval": 2.5e-4}
+DEFAULTS = {"scene.end_time": 0.3, "output.timeseries_interval": 2.5e-4}
 
 
 def _layers(extent, spacing, key):
