@@ -140,7 +140,8 @@ def write_report(out_dir, rungs, summaries):
         f"{machine.get('commit')}; report written {datetime.date.today().isoformat()}.", "",
         "Wall time includes setup (scene build, first force evaluation; Numba functions come from the on-disk "
         "cache). Particle-steps/s counts every solid particle (clamp included) per solid step, over stepping "
-        "time only.", "",
+        "time only; a value well below the benchmark's (`docs/performance/BENCH.md`) means the run shared the "
+        "2 cores with other work and its wall time is inflated by the same factor.", "",
         "| case | run | dp [mm] | particles | solid steps | wall [s] | M particle-steps/s | measured | reference | "
         "error | stable |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
