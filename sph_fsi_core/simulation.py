@@ -72,7 +72,8 @@ class Simulation:
             xsph_eps=v["solid.xsph_epsilon"], alpha=v["solid.artificial_viscosity_alpha"],
             beta=v["solid.artificial_viscosity_beta"], art_eps=v["solid.artificial_stress_epsilon"],
             art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
-            skin=v["numerics.neighbour_skin"] * self.h)
+            skin=v["numerics.neighbour_skin"] * self.h,
+            gradient_correction=v["solid.gradient_correction"])
         forced = v["solid.time_step"]
         limit = self._stable_dt(v["solid.cfl"], c0)
         if forced > limit:

@@ -29,13 +29,18 @@ def material_constants(young_modulus, poisson_ratio, density):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf):
+def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
+                               correct_gradient):
     """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
 
     One pass over the half list (each pair once): with g = grad_a W_ab and dv = v_b - v_a, the pair adds
     V_b dv (x) g to L_a and V_a dv (x) g to L_b (grad_b W_ba = -g and v_a - v_b = -dv), and m/rhobar W dv with
     opposite signs to the two XSPH sums. Each chunk of rows accumulates into its own slice of `buf`
-    (chunks, N, 12), so there are no write races; a second loop sums the chunks.
+    (chunks, N, 21), so there are no write races; a second loop sums the chunks.
+
+    correct_gradient: also sum K_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab and return L K^-1, the velocity
+    gradient that is exact for linear fields also where the kernel is truncated (free surfaces). Not in the
+    paper (Gray 2001 uses the plain sum); a scene option.
     """
     n = vel.shape[0]
     chunks = buf.shape[0]
@@ -90,6 +95,29 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 out[b, 9] += va * o20
                 out[b, 10] += va * o21
                 out[b, 11] += va * o22
+                if correct_gradient:
+                    # -(r_ab (x) g) is the pair's K term seen from both sides (r_ab (x) g is symmetric)
+                    rx = gx / fs if fs != 0.0 else 0.0
+                    ry = gy / fs if fs != 0.0 else 0.0
+                    rz = gz / fs if fs != 0.0 else 0.0
+                    k00 = -rx * gx
+                    k01 = -rx * gy
+                    k02 = -rx * gz
+                    k11 = -ry * gy
+                    k12 = -ry * gz
+                    k22 = -rz * gz
+                    out[a, 12] += vb * k00
+                    out[a, 13] += vb * k01
+                    out[a, 14] += vb * k02
+                    out[a, 15] += vb * k11
+                    out[a, 16] += vb * k12
+                    out[a, 17] += vb * k22
+                    out[b, 12] += va * k00
+                    out[b, 13] += va * k01
+                    out[b, 14] += va * k02
+                    out[b, 15] += va * k11
+                    out[b, 16] += va * k12
+                    out[b, 17] += va * k22
             out[a, 0] += x0
             out[a, 1] += x1
             out[a, 2] += x2
@@ -105,6 +133,33 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 for c in range(chunks):
                     acc += buf[c, a, 3 + 3 * i + j]
                 grad_v[a, i, j] = acc
+        if correct_gradient:
+            kk = np.zeros(6)
+            for m in range(6):
+                for c in range(chunks):
+                    kk[m] += buf[c, a, 12 + m]
+            k00, k01, k02, k11, k12, k22 = kk[0], kk[1], kk[2], kk[3], kk[4], kk[5]
+            c00 = k11 * k22 - k12 * k12
+            c01 = k02 * k12 - k01 * k22
+            c02 = k01 * k12 - k02 * k11
+            det = k00 * c00 + k01 * c01 + k02 * c02
+            if abs(det) > 1e-3:   # a particle with too few neighbours keeps the plain gradient
+                c11 = k00 * k22 - k02 * k02
+                c12 = k01 * k02 - k00 * k12
+                c22 = k00 * k11 - k01 * k01
+                inv = np.empty((3, 3))
+                inv[0, 0] = c00 / det
+                inv[0, 1] = inv[1, 0] = c01 / det
+                inv[0, 2] = inv[2, 0] = c02 / det
+                inv[1, 1] = c11 / det
+                inv[1, 2] = inv[2, 1] = c12 / det
+                inv[2, 2] = c22 / det
+                lrow = np.empty(3)
+                for i in range(3):
+                    for j in range(3):
+                        lrow[j] = grad_v[a, i, j]
+                    for j in range(3):
+                        grad_v[a, i, j] = lrow[0] * inv[0, j] + lrow[1] * inv[1, j] + lrow[2] * inv[2, j]
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)

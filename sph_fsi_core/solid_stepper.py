@@ -43,24 +43,25 @@ class SolidParams(NamedTuple):
     gy: float
     gz: float
     half_skin: float
+    gradient_correction: bool   # Hooke's law from the kernel-corrected velocity gradient (not in the paper)
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
-                skin):
+                skin, gradient_correction=False):
     return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
                        beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
-                       half_skin=0.5 * skin)
+                       half_skin=0.5 * skin, gradient_correction=bool(gradient_correction))
 
 
 class SolidWork:
     """Scratch arrays of the solid passes, allocated once per build.
 
-    `buf` (chunks, N, 12): per-chunk accumulators of the half-list passes, one chunk per thread.
+    `buf` (chunks, N, 18): per-chunk accumulators of the half-list passes, one chunk per thread.
     """
 
     def __init__(self, n):
-        self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 12))
+        self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 18))
         self.vhat = np.zeros((n, 3))
         self.grad_v = np.zeros((n, 3, 3))
         self.drho = np.zeros(n)
@@ -128,7 +129,8 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             if movable[a]:
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
-        xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v, buf)
+        xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v, buf,
+                                   prm.gradient_correction)
         continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         for a in range(n):
