@@ -96,7 +96,7 @@ class Simulation:
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
-                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf)
+                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -181,7 +181,7 @@ class Simulation:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
                                s.acc, _NO_EXTERNAL, nb.start, nb.index, self.period, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
-                               wk.eig_work, wk.w, wk.f, wk.buf)
+                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()

@@ -30,7 +30,7 @@ def material_constants(young_modulus, poisson_ratio, density):
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
-                               correct_gradient):
+                               correct_gradient, kinv):
     """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
 
     One pass over the half list (each pair once): with g = grad_a W_ab and dv = v_b - v_a, the pair adds
@@ -39,8 +39,8 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
     (chunks, N, 21), so there are no write races; a second loop sums the chunks.
 
     correct_gradient: also sum K_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab and return L K^-1, the velocity
-    gradient that is exact for linear fields also where the kernel is truncated (free surfaces). Not in the
-    paper (Gray 2001 uses the plain sum); a scene option.
+    gradient that is exact for linear fields also where the kernel is truncated (free surfaces); K^-1 is left
+    in `kinv` (N, 3, 3) for the momentum pass. Not in the paper (Gray 2001 uses the plain sum); a scene option.
     """
     n = vel.shape[0]
     chunks = buf.shape[0]
@@ -160,6 +160,13 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                         lrow[j] = grad_v[a, i, j]
                     for j in range(3):
                         grad_v[a, i, j] = lrow[0] * inv[0, j] + lrow[1] * inv[1, j] + lrow[2] * inv[2, j]
+                for i in range(3):
+                    for j in range(3):
+                        kinv[a, i, j] = inv[i, j]
+            else:
+                for i in range(3):
+                    for j in range(3):
+                        kinv[a, i, j] = 1.0 if i == j else 0.0
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
@@ -286,7 +293,7 @@ def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rh
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                  alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf):
+                  alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv):
     """Eq. (5): dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I + R_ab f_ab^n) . grad_a W_ab + g.
 
     f_ab = W_ab / W(dp); R_ab = R_a + R_b; n = art_exponent, an integer (0: no artificial stress).
@@ -294,6 +301,10 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
     and grad_b W_ba = -grad_a W_ab, so over the half list each pair adds m_b T.g to a and -m_a T.g to b:
     momentum is conserved to round-off. The same pass evaluates the kernel at the current positions and leaves
     it in the pair cache (w, f) for the next step's velocity passes.
+
+    correct_gradient: each particle's stress acts through its kernel-corrected gradient K^-1 grad W (Bonet & Lok
+    1999), the counterpart of the corrected velocity gradient, so that stress power and strain rate stay paired;
+    the pair terms (viscosity, artificial stress) use the mean of the two. Still antisymmetric per pair.
     """
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
@@ -316,12 +327,37 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
                 wab, fab = cubic_spline_wf(r, inv_h, sigma)
                 w[s] = wab
                 f[s] = fab
-                txx = sigma_over_rho2[a, XX] + sigma_over_rho2[b, XX]
-                tyy = sigma_over_rho2[a, YY] + sigma_over_rho2[b, YY]
-                tzz = sigma_over_rho2[a, ZZ] + sigma_over_rho2[b, ZZ]
-                txy = sigma_over_rho2[a, XY] + sigma_over_rho2[b, XY]
-                txz = sigma_over_rho2[a, XZ] + sigma_over_rho2[b, XZ]
-                tyz = sigma_over_rho2[a, YZ] + sigma_over_rho2[b, YZ]
+                if correct_gradient:
+                    # K_a^-1 g and K_b^-1 g for the two particles' own stresses
+                    gx = fab * rx
+                    gy = fab * ry
+                    gz = fab * rz
+                    gax = kinv[a, 0, 0] * gx + kinv[a, 0, 1] * gy + kinv[a, 0, 2] * gz
+                    gay = kinv[a, 1, 0] * gx + kinv[a, 1, 1] * gy + kinv[a, 1, 2] * gz
+                    gaz = kinv[a, 2, 0] * gx + kinv[a, 2, 1] * gy + kinv[a, 2, 2] * gz
+                    gbx = kinv[b, 0, 0] * gx + kinv[b, 0, 1] * gy + kinv[b, 0, 2] * gz
+                    gby = kinv[b, 1, 0] * gx + kinv[b, 1, 1] * gy + kinv[b, 1, 2] * gz
+                    gbz = kinv[b, 2, 0] * gx + kinv[b, 2, 1] * gy + kinv[b, 2, 2] * gz
+                    mx = 0.5 * (gax + gbx)
+                    my = 0.5 * (gay + gby)
+                    mz = 0.5 * (gaz + gbz)
+                    sa = sigma_over_rho2[a]
+                    sb = sigma_over_rho2[b]
+                    fx = (sa[XX] * gax + sa[XY] * gay + sa[XZ] * gaz) + (sb[XX] * gbx + sb[XY] * gby + sb[XZ] * gbz)
+                    fy = (sa[XY] * gax + sa[YY] * gay + sa[YZ] * gaz) + (sb[XY] * gbx + sb[YY] * gby + sb[YZ] * gbz)
+                    fz = (sa[XZ] * gax + sa[YZ] * gay + sa[ZZ] * gaz) + (sb[XZ] * gbx + sb[YZ] * gby + sb[ZZ] * gbz)
+                    txx = tyy = tzz = txy = txz = tyz = 0.0
+                else:
+                    mx = fab * rx
+                    my = fab * ry
+                    mz = fab * rz
+                    fx = fy = fz = 0.0
+                    txx = sigma_over_rho2[a, XX] + sigma_over_rho2[b, XX]
+                    tyy = sigma_over_rho2[a, YY] + sigma_over_rho2[b, YY]
+                    tzz = sigma_over_rho2[a, ZZ] + sigma_over_rho2[b, ZZ]
+                    txy = sigma_over_rho2[a, XY] + sigma_over_rho2[b, XY]
+                    txz = sigma_over_rho2[a, XZ] + sigma_over_rho2[b, XZ]
+                    tyz = sigma_over_rho2[a, YZ] + sigma_over_rho2[b, YZ]
                 vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
                 if vr < 0.0:
                     mu = h * vr / (r2 + eta2)
@@ -344,9 +380,9 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
                     txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
                     txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
                     tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
-                gx = fab * (txx * rx + txy * ry + txz * rz)
-                gy = fab * (txy * rx + tyy * ry + tyz * rz)
-                gz = fab * (txz * rx + tyz * ry + tzz * rz)
+                gx = fx + txx * mx + txy * my + txz * mz
+                gy = fy + txy * mx + tyy * my + tyz * mz
+                gz = fz + txz * mx + tyz * my + tzz * mz
                 ax += mass[b] * gx
                 ay += mass[b] * gy
                 az += mass[b] * gz

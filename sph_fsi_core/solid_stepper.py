@@ -70,6 +70,8 @@ class SolidWork:
         self.art_stress = np.zeros((n, 6))
         self.eig_work = np.zeros((n, 10, 3))
         self.eig_work[:, 3:6] = np.eye(3)   # eigenvector guesses, warm-started from step to step
+        self.kinv = np.zeros((n, 3, 3))
+        self.kinv[:] = np.eye(3)            # kernel-gradient correction K^-1 (identity until first computed)
         self.w = np.zeros(0)
         self.f = np.zeros(0)
 
@@ -81,13 +83,14 @@ class SolidWork:
 
 @njit(cache=True, fastmath=False, error_model="numpy")
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf):
+                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
     momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
-                  prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf)
+                  prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
+                  prm.gradient_correction, kinv)
     has_ext = ext_acc.shape[0] == acc.shape[0]
     for a in range(acc.shape[0]):
         if not movable[a]:
@@ -113,7 +116,7 @@ def _max_norm(v):
 @njit(cache=True, fastmath=False, error_model="numpy")
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
-                   w, f, buf):
+                   w, f, buf, kinv):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -130,7 +133,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v, buf,
-                                   prm.gradient_correction)
+                                   prm.gradient_correction, kinv)
         continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         for a in range(n):
@@ -141,7 +144,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     pos[a, k] += dt * vhat[a, k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf)
+                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv)
         for a in range(n):
             if movable[a]:
                 for k in range(3):
