@@ -134,35 +134,32 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                     acc += buf[c, a, 3 + 3 * i + j]
                 grad_v[a, i, j] = acc
         if correct_gradient:
-            kk = np.zeros(6)
-            for m in range(6):
-                for c in range(chunks):
-                    kk[m] += buf[c, a, 12 + m]
-            k00, k01, k02, k11, k12, k22 = kk[0], kk[1], kk[2], kk[3], kk[4], kk[5]
+            k00 = k01 = k02 = k11 = k12 = k22 = 0.0
+            for c in range(chunks):
+                k00 += buf[c, a, 12]
+                k01 += buf[c, a, 13]
+                k02 += buf[c, a, 14]
+                k11 += buf[c, a, 15]
+                k12 += buf[c, a, 16]
+                k22 += buf[c, a, 17]
             c00 = k11 * k22 - k12 * k12
             c01 = k02 * k12 - k01 * k22
             c02 = k01 * k12 - k02 * k11
             det = k00 * c00 + k01 * c01 + k02 * c02
             if abs(det) > 1e-3:   # a particle with too few neighbours keeps the plain gradient
-                c11 = k00 * k22 - k02 * k02
-                c12 = k01 * k02 - k00 * k12
-                c22 = k00 * k11 - k01 * k01
-                inv = np.empty((3, 3))
-                inv[0, 0] = c00 / det
-                inv[0, 1] = inv[1, 0] = c01 / det
-                inv[0, 2] = inv[2, 0] = c02 / det
-                inv[1, 1] = c11 / det
-                inv[1, 2] = inv[2, 1] = c12 / det
-                inv[2, 2] = c22 / det
-                lrow = np.empty(3)
+                # K^-1 (symmetric) into kinv[a], then each row of L times K^-1, in place
+                kinv[a, 0, 0] = c00 / det
+                kinv[a, 0, 1] = kinv[a, 1, 0] = c01 / det
+                kinv[a, 0, 2] = kinv[a, 2, 0] = c02 / det
+                kinv[a, 1, 1] = (k00 * k22 - k02 * k02) / det
+                kinv[a, 1, 2] = kinv[a, 2, 1] = (k01 * k02 - k00 * k12) / det
+                kinv[a, 2, 2] = (k00 * k11 - k01 * k01) / det
                 for i in range(3):
+                    l0 = grad_v[a, i, 0]
+                    l1 = grad_v[a, i, 1]
+                    l2 = grad_v[a, i, 2]
                     for j in range(3):
-                        lrow[j] = grad_v[a, i, j]
-                    for j in range(3):
-                        grad_v[a, i, j] = lrow[0] * inv[0, j] + lrow[1] * inv[1, j] + lrow[2] * inv[2, j]
-                for i in range(3):
-                    for j in range(3):
-                        kinv[a, i, j] = inv[i, j]
+                        grad_v[a, i, j] = l0 * kinv[a, 0, j] + l1 * kinv[a, 1, j] + l2 * kinv[a, 2, j]
             else:
                 for i in range(3):
                     for j in range(3):
