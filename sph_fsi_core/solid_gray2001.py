@@ -55,9 +55,12 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 b = index[s]
                 vb = mass[b] / rho[b]
                 fs = f[s]
-                gx = fs * minimum_image(pos[a, 0] - pos[b, 0], period[0])
-                gy = fs * minimum_image(pos[a, 1] - pos[b, 1], period[1])
-                gz = fs * minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                gx = fs * rx
+                gy = fs * ry
+                gz = fs * rz
                 dvx = vel[b, 0] - vel[a, 0]
                 dvy = vel[b, 1] - vel[a, 1]
                 dvz = vel[b, 2] - vel[a, 2]
@@ -97,9 +100,6 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 out[b, 11] += va * o22
                 if correct_gradient:
                     # -(r_ab (x) g) is the pair's K term seen from both sides (r_ab (x) g is symmetric)
-                    rx = gx / fs if fs != 0.0 else 0.0
-                    ry = gy / fs if fs != 0.0 else 0.0
-                    rz = gz / fs if fs != 0.0 else 0.0
                     k00 = -rx * gx
                     k01 = -rx * gy
                     k02 = -rx * gz
