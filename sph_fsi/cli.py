@@ -1,20 +1,28 @@
 """`sph-fsi`: the command line (no ROS needed).
 
     sph-fsi run [SCENE] [--set KEY=VALUE ...] [--end-time T] [--out DIR]
+                [--mcap FILE [--mcap-compression zstd|lz4|none]] [--rrd FILE] [--rerun-connect ADDR]
+                [--record-interval T]
+    sph-fsi replay FILE.mcap [--rate R] [--wait-for-subscribers N]
     sph-fsi scenes
     sph-fsi keys [SCENE] [--yaml]
     sph-fsi validate [CASE ...] [--quick] [--workers N]
 
 Exit status: 0 on success; 2 on bad input (one line naming the key and the allowed range); 3 when the run
-diverged (one line naming the check that tripped, when and where).
+diverged (one line naming the check that tripped, when and where); 130 when stopped by SIGINT or SIGTERM.
+
+SIGINT (Ctrl-C) and SIGTERM stop a run cleanly at the end of the current outer step: recordings get the state
+at that step and are closed whole. A second signal while the recordings close is ignored (a third exits at once).
 """
 import argparse
-import json
+import os
+import signal
 import sys
 from pathlib import Path
 
 EXIT_BAD_INPUT = 2
 EXIT_DIVERGED = 3
+EXIT_INTERRUPTED = 130
 
 
 def _cmd_scenes(_args):
@@ -52,6 +60,62 @@ def _check_out_dir(path):
     return out
 
 
+class _Stop(Exception):
+    """Raised at an outer-step boundary after SIGINT/SIGTERM."""
+
+
+class _Signals:
+    """SIGINT/SIGTERM -> a flag checked between outer steps; the run then ends cleanly (exit status 130).
+
+    The flag is first checked once the scene is built (after the first Numba compile). A second signal before
+    then raises KeyboardInterrupt. While recordings close, a second signal is ignored; a third exits at once."""
+
+    def __init__(self):
+        self.signum = None
+        self.count = 0
+        self.closing = False
+        self._old = {}
+
+    def __enter__(self):
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self._old[sig] = signal.signal(sig, self._handle)
+        return self
+
+    def __exit__(self, *exc):
+        for sig, old in self._old.items():
+            signal.signal(sig, old)
+
+    def _handle(self, signum, _frame):
+        self.count += 1
+        if self.signum is None:
+            self.signum = signum
+        if self.closing:
+            if self.count >= 3:
+                os.write(2, b"sph-fsi: third signal while closing recordings: exiting now\n")
+                os._exit(130)
+            os.write(2, b"sph-fsi: closing the recordings, please wait (signal again to abandon them)\n")
+            return
+        if self.count >= 2:
+            raise KeyboardInterrupt
+
+    def check(self):
+        if self.signum is not None and not self.closing:
+            raise _Stop()
+
+
+def _check_writable_file(option, path):
+    if path is None:
+        return None
+    p = Path(path)
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise ValueError(f"{option} {str(p)!r}: directory {str(parent)!r} does not exist; allowed: a file in an "
+                         f"existing writable directory")
+    if not os.access(parent, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
+        raise ValueError(f"{option} {str(p)!r}: not writable; allowed: a file in an existing writable directory")
+    return p
+
+
 def _cmd_run(args):
     from sph_fsi_core.run import run_scene
     from sph_fsi_core.scene import load_scene
@@ -59,15 +123,63 @@ def _cmd_run(args):
     if args.end_time is not None:
         spec = spec.with_overrides({"scene.end_time": args.end_time})
     out = _check_out_dir(args.out or Path("runs") / spec.name)
+    mcap = _check_writable_file("--mcap", args.mcap)
+    rrd = _check_writable_file("--rrd", args.rrd)
+    if args.record_interval is not None and args.record_interval < 0:
+        raise ValueError(f"--record-interval {args.record_interval:g}: allowed: >= 0 s (0 = every outer step)")
+    recording = bool(mcap or rrd or args.rerun_connect)
     print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) to t = {spec['scene.end_time']:g} s "
           f"into {out}/", file=sys.stderr)
-    summary = run_scene(spec, out)
+    state = {"rec": None, "sim": None}
+    with _Signals() as signals:
+        def on_sample(sim, row):
+            state["sim"] = sim
+            signals.check()
+            if recording:
+                if state["rec"] is None:
+                    from sph_fsi.recording import DEFAULT_INTERVAL, Recorder
+                    interval = DEFAULT_INTERVAL if args.record_interval is None else args.record_interval
+                    state["rec"] = Recorder(sim, mcap_path=mcap, mcap_compression=args.mcap_compression,
+                                            rrd_path=rrd, rerun_connect=args.rerun_connect, interval=interval)
+                state["rec"].maybe_record(sim, row)
+
+        status, detail, summary = "failed", None, None
+        try:
+            summary = run_scene(spec, out, on_sample=on_sample)
+            if summary["stable"]:
+                status = "finished"
+            else:
+                d = summary["diverged"]
+                status, detail = "diverged", f"{d['check']} at t = {d['time']:.6g} s: {d['detail']}"
+        except (_Stop, KeyboardInterrupt):
+            status = "interrupted"
+        finally:
+            signals.closing = True
+            rec = state["rec"]
+            if rec is not None:
+                stats = rec.close(state["sim"], status=status, detail=detail)
+                written = [str(p) for p in (mcap, rrd) if p]
+                print(f"sph-fsi: recorded {rec.frames} frames ({rec.interval:g} s apart) to "
+                      f"{', '.join(written + ([args.rerun_connect] if args.rerun_connect else []))}"
+                      + (f"; the simulator waited {stats['waits']} times ({stats['wait_seconds']:.2f} s) for "
+                         f"the recorder" if stats["waits"] else "")
+                      + (f"; errors: {'; '.join(stats['errors'])}" if stats["errors"] else ""), file=sys.stderr)
+    if status == "interrupted":
+        name = signal.Signals(signals.signum).name if signals.signum else "SIGINT"
+        print(f"sph-fsi: stopped by {name} at t = {state['sim'].time if state['sim'] else 0.0:.6g} s",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
     _print_summary(summary, out)
-    if not summary["stable"]:
-        d = summary["diverged"]
-        print(f"sph-fsi: diverged: {d['check']} at t = {d['time']:.6g} s: {d['detail']}", file=sys.stderr)
+    if status == "diverged":
+        print(f"sph-fsi: diverged: {detail}", file=sys.stderr)
         return EXIT_DIVERGED
     return 0
+
+
+def _cmd_replay(args):
+    from sph_fsi.replay import replay
+    return replay(args.file, rate=args.rate, wait_for_subscribers=args.wait_for_subscribers,
+                  wait_timeout=args.wait_timeout)
 
 
 def _print_summary(s, out):
@@ -96,7 +208,23 @@ def build_parser():
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene key (repeatable)")
     p.add_argument("--end-time", type=float, default=None, help="simulated end time [s]")
     p.add_argument("--out", default=None, help="output directory (default runs/SCENE)")
+    p.add_argument("--mcap", default=None, metavar="FILE", help="record the node's topics to an MCAP file (ROS 2)")
+    p.add_argument("--mcap-compression", default="zstd", choices=("zstd", "lz4", "none"),
+                   help="MCAP chunk compression (default zstd)")
+    p.add_argument("--rrd", default=None, metavar="FILE", help="record to a Rerun .rrd file")
+    p.add_argument("--rerun-connect", default=None, metavar="ADDR",
+                   help="stream live to a Rerun viewer (host:port or rerun+http://host:port/proxy)")
+    p.add_argument("--record-interval", type=float, default=None, metavar="T",
+                   help="simulated seconds between recorded frames (default 0.005; 0 = every outer step)")
     p.set_defaults(func=_cmd_run)
+    p = sub.add_parser("replay", help="republish an MCAP recording onto ROS 2 topics (needs rclpy)")
+    p.add_argument("file", help="an .mcap written by sph-fsi run --mcap or the node's mcap_path")
+    p.add_argument("--rate", type=float, default=1.0,
+                   help="playback speed: simulated seconds per wall second (default 1; 0 = as fast as possible)")
+    p.add_argument("--wait-for-subscribers", type=int, default=0, metavar="N",
+                   help="before playing, wait until every topic has N subscribers (default 0: do not wait)")
+    p.add_argument("--wait-timeout", type=float, default=30.0, help="the longest wait for subscribers [s]")
+    p.set_defaults(func=_cmd_replay)
     p = sub.add_parser("scenes", help="list the built-in scenes")
     p.set_defaults(func=_cmd_scenes)
     p = sub.add_parser("keys", help="list a scene's keys with units, ranges and values")

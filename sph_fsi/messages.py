@@ -14,28 +14,11 @@ from builtin_interfaces.msg import Time
 from sensor_msgs.msg import PointCloud2, PointField
 from std_msgs.msg import Header
 
+from .points import PARTICLE_DTYPE, PHASE_FLUID, PHASE_SOLID, WALL_DTYPE  # layouts, defined ROS-free
+
 __all__ = ["PHASE_FLUID", "PHASE_SOLID", "PARTICLE_DTYPE", "WALL_DTYPE", "particle_array", "wall_array",
            "structured_to_cloud", "particles_to_cloud", "walls_to_cloud", "cloud_to_structured",
            "stamp_from_seconds", "seconds_from_stamp"]
-
-PHASE_FLUID = 1
-PHASE_SOLID = 2
-
-
-def _padded(fields):
-    """A structured dtype of (name, format) packed in order, itemsize rounded up to a multiple of 4."""
-    names, formats, offsets, offset = [], [], [], 0
-    for name, fmt in fields:
-        names.append(name)
-        formats.append(fmt)
-        offsets.append(offset)
-        offset += np.dtype(fmt).itemsize
-    return np.dtype({"names": names, "formats": formats, "offsets": offsets, "itemsize": (offset + 3) // 4 * 4})
-
-
-PARTICLE_DTYPE = _padded([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("vx", "<f4"), ("vy", "<f4"), ("vz", "<f4"),
-                          ("pressure", "<f4"), ("von_mises", "<f4"), ("phase", "u1")])
-WALL_DTYPE = _padded([("x", "<f4"), ("y", "<f4"), ("z", "<f4")])
 
 # NumPy (kind, itemsize) <-> PointField datatype
 _TO_POINTFIELD = {("i", 1): PointField.INT8, ("u", 1): PointField.UINT8, ("i", 2): PointField.INT16,

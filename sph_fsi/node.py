@@ -139,10 +139,10 @@ from std_srvs.srv import SetBool, Trigger  # noqa: E402
 from sph_fsi_core.scene import load_scene  # noqa: E402
 from sph_fsi_core.schema import Param, SceneError  # noqa: E402
 from sph_fsi_core.simulation import Diverged, Simulation  # noqa: E402
-from sph_fsi_core.tensors import von_mises  # noqa: E402
 
-from .messages import (PHASE_FLUID, PHASE_SOLID, PARTICLE_DTYPE, structured_to_cloud,  # noqa: E402
-                       stamp_from_seconds, walls_to_cloud)
+from .messages import stamp_from_seconds, structured_to_cloud, walls_to_cloud  # noqa: E402
+from .points import (PHASE_CODES, moving_particles, particle_points, topic_plan,  # noqa: E402,F401
+                     wall_positions)
 
 # The node's own parameters, described like scene keys (validated with Param.coerce).
 NODE_PARAMS = {p.key: p for p in [
@@ -165,7 +165,6 @@ HIDDEN_SCENE_KEYS = {"scene.builder"}
 FOREIGN_PARAMS = {"use_sim_time", "start_type_description_service"}
 FOREIGN_PREFIXES = ("qos_overrides.",)
 
-PHASE_CODES = {"fluid": PHASE_FLUID, "solid": PHASE_SOLID}
 _DBL_MAX = sys.float_info.max
 _INT64 = 2 ** 63 - 1
 _ROS_TYPES = {"float": ParameterType.PARAMETER_DOUBLE, "int": ParameterType.PARAMETER_INTEGER,
@@ -208,73 +207,6 @@ def from_ros_value(value):
         return [v.item() if hasattr(v, "item") else v for v in value]
     except TypeError:
         return value
-
-
-# ---- what the scene has -----------------------------------------------------------------------------------
-def moving_particles(sim):
-    """Per phase the scene has, its moving particles: [(phase code, pos, vel, pressure, von Mises)]."""
-    parts = []
-    fluid = getattr(sim, "fluid", None)
-    if fluid is not None:
-        m = _movable(fluid)
-        parts.append((PHASE_FLUID, fluid.pos[m], fluid.vel[m], fluid.pressure[m], np.zeros(int(m.sum()))))
-    solid = getattr(sim, "solid", None)
-    if solid is not None:
-        m = solid.movable
-        parts.append((PHASE_SOLID, solid.pos[m], solid.vel[m], solid.pressure[m], von_mises(solid.stress[m])))
-    return parts
-
-
-def wall_positions(sim):
-    """Positions of every particle that never moves: wall particles, fixed fluid particles, the solid's clamp."""
-    parts = []
-    walls = getattr(sim, "walls", None)
-    if walls is not None:
-        parts.append(walls.pos)
-    for phase in ("fluid", "solid"):
-        state = getattr(sim, phase, None)
-        if state is not None:
-            m = _movable(state)
-            if not m.all():
-                parts.append(state.pos[~m])
-    return np.concatenate(parts) if parts else np.zeros((0, 3))
-
-
-def _movable(state):
-    m = getattr(state, "movable", None)
-    return np.ones(len(state.pos), bool) if m is None else np.asarray(m, bool)
-
-
-def particle_points(sim):
-    """The ~/particles structured array: the moving particles of every phase, in phase order."""
-    parts = moving_particles(sim)
-    n = sum(len(p[1]) for p in parts)
-    out = np.zeros(n, dtype=PARTICLE_DTYPE)
-    i = 0
-    for code, pos, vel, pressure, vm in parts:
-        j = i + len(pos)
-        seg = out[i:j]
-        seg["x"], seg["y"], seg["z"] = pos[:, 0], pos[:, 1], pos[:, 2]
-        seg["vx"], seg["vy"], seg["vz"] = vel[:, 0], vel[:, 1], vel[:, 2]
-        seg["pressure"] = pressure
-        seg["von_mises"] = vm
-        seg["phase"] = code
-        i = j
-    return out
-
-
-def topic_plan(sim):
-    """Names of the scene-dependent topics this simulation has."""
-    names = set()
-    if moving_particles(sim):
-        names.add("particles")
-    if len(wall_positions(sim)):
-        names.add("walls")
-    if any(p.name == "tip" for p in getattr(sim, "probes", [])):
-        names.add("tip_displacement")
-    if getattr(sim, "solid", None) is not None:
-        names.add("strain_energy")
-    return names
 
 
 _TOPIC_TYPES = {"particles": PointCloud2, "walls": PointCloud2, "tip_displacement": Vector3Stamped,

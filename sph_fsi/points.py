@@ -1,0 +1,111 @@
+"""What a simulation shows, as NumPy: the moving particles of each phase, the fixed ones, and their point layouts.
+
+ROS-free (no rclpy, no message packages): shared by the node (sph_fsi.node), the message builders
+(sph_fsi.messages) and the recorders (sph_fsi.recording), which also run from the command line without ROS.
+
+`~/particles` points: float32 x y z [m], vx vy vz [m/s], pressure [Pa], von_mises [Pa], uint8 phase
+(1 fluid, 2 solid), padded from 33 to 36 bytes. `~/walls` points: float32 x y z [m].
+A phase the scene does not have (`sim.fluid` / `sim.solid` / `sim.walls` None or absent) contributes nothing.
+"""
+import numpy as np
+
+from sph_fsi_core.tensors import von_mises
+
+__all__ = ["PHASE_FLUID", "PHASE_SOLID", "PHASE_CODES", "PARTICLE_DTYPE", "WALL_DTYPE", "moving_particles",
+           "wall_positions", "particle_points", "pack_particles", "topic_plan"]
+
+PHASE_FLUID = 1
+PHASE_SOLID = 2
+PHASE_CODES = {"fluid": PHASE_FLUID, "solid": PHASE_SOLID}
+
+
+def _padded(fields):
+    """A structured dtype of (name, format) packed in order, itemsize rounded up to a multiple of 4."""
+    names, formats, offsets, offset = [], [], [], 0
+    for name, fmt in fields:
+        names.append(name)
+        formats.append(fmt)
+        offsets.append(offset)
+        offset += np.dtype(fmt).itemsize
+    return np.dtype({"names": names, "formats": formats, "offsets": offsets, "itemsize": (offset + 3) // 4 * 4})
+
+
+PARTICLE_DTYPE = _padded([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("vx", "<f4"), ("vy", "<f4"), ("vz", "<f4"),
+                          ("pressure", "<f4"), ("von_mises", "<f4"), ("phase", "u1")])
+WALL_DTYPE = _padded([("x", "<f4"), ("y", "<f4"), ("z", "<f4")])
+
+
+def _movable(state):
+    m = getattr(state, "movable", None)
+    return np.ones(len(state.pos), bool) if m is None else np.asarray(m, bool)
+
+
+def moving_particles(sim, stress=False):
+    """Per phase the scene has, its moving particles: [(phase code, pos, vel, pressure, von Mises)].
+
+    With stress=True the last item is the solid's deviatoric stress (M, 6) instead of its von Mises value
+    (a copy, for a recorder that computes von Mises off the simulation thread); for the fluid it is None.
+    """
+    parts = []
+    fluid = getattr(sim, "fluid", None)
+    if fluid is not None:
+        m = _movable(fluid)
+        parts.append((PHASE_FLUID, fluid.pos[m], fluid.vel[m], fluid.pressure[m],
+                      None if stress else np.zeros(int(m.sum()))))
+    solid = getattr(sim, "solid", None)
+    if solid is not None:
+        m = solid.movable
+        parts.append((PHASE_SOLID, solid.pos[m], solid.vel[m], solid.pressure[m],
+                      solid.stress[m] if stress else von_mises(solid.stress[m])))
+    return parts
+
+
+def wall_positions(sim):
+    """Positions of every particle that never moves: wall particles, fixed fluid particles, the solid's clamp."""
+    parts = []
+    walls = getattr(sim, "walls", None)
+    if walls is not None:
+        parts.append(walls.pos)
+    for phase in ("fluid", "solid"):
+        state = getattr(sim, phase, None)
+        if state is not None:
+            m = _movable(state)
+            if not m.all():
+                parts.append(state.pos[~m])
+    return np.concatenate(parts) if parts else np.zeros((0, 3))
+
+
+def pack_particles(parts):
+    """[(code, pos, vel, pressure, von Mises)] -> one PARTICLE_DTYPE array, in the order given."""
+    n = sum(len(p[1]) for p in parts)
+    out = np.zeros(n, dtype=PARTICLE_DTYPE)   # zeros: the padding bytes are deterministic
+    i = 0
+    for code, pos, vel, pressure, vm in parts:
+        j = i + len(pos)
+        seg = out[i:j]
+        seg["x"], seg["y"], seg["z"] = pos[:, 0], pos[:, 1], pos[:, 2]
+        seg["vx"], seg["vy"], seg["vz"] = vel[:, 0], vel[:, 1], vel[:, 2]
+        seg["pressure"] = pressure
+        seg["von_mises"] = vm
+        seg["phase"] = code
+        i = j
+    return out
+
+
+def particle_points(sim):
+    """The ~/particles structured array: the moving particles of every phase, in phase order."""
+    return pack_particles(moving_particles(sim))
+
+
+def topic_plan(sim):
+    """Names of the scene-dependent topics this simulation has."""
+    names = set()
+    if moving_particles(sim):
+        names.add("particles")
+    if len(wall_positions(sim)):
+        names.add("walls")
+    if any(p.name == "tip" for p in getattr(sim, "probes", [])):
+        names.add("tip_displacement")
+    if getattr(sim, "solid", None) is not None:
+        names.add("strain_energy")
+    return names
