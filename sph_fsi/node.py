@@ -104,6 +104,14 @@ def main(args=None):
     return code
 
 
+def _numbered(path, n):
+    """The n-th recording file of a path: the path itself, then <stem>_<n><suffix> after each reset."""
+    if n == 0:
+        return path
+    root, ext = os.path.splitext(path)
+    return f"{root}_{n}{ext}"
+
+
 def _spin(executor, context, spin_stop):
     """The executor loop, ended by `spin_stop` (checked every 0.1 s) rather than by shutting the executor down
     under a spinning thread."""
@@ -158,7 +166,17 @@ NODE_PARAMS = {p.key: p for p in [
           kind="str", choices=("reliable", "sensor_data")),
     Param("on_end", "stay", "", "At end_time: 'stay' (keep serving, report finished) or 'exit' (exit status 0)",
           kind="str", choices=("stay", "exit"), rebuild=False),
+    # Recordings (sph_fsi.recording): opened when the simulation is built; each ~/reset closes the files and
+    # starts new ones named <stem>_<n><suffix> (n = 1, 2, ...).
+    Param("mcap_path", "", "", "Record the node's topics to this MCAP file ('' = no MCAP recording)", kind="str"),
+    Param("mcap_compression", "zstd", "", "MCAP chunk compression", kind="str", choices=("zstd", "lz4", "none")),
+    Param("rrd_path", "", "", "Record to this Rerun .rrd file ('' = no Rerun recording)", kind="str"),
+    Param("rerun_connect", "", "", "Stream live to a Rerun viewer at host:port or rerun+http://host:port/proxy "
+          "('' = off)", kind="str"),
+    Param("record_interval", 0.005, "s", "Simulated time between recorded frames, independent of publish_period "
+          "(whole outer steps; 0 = every outer step)", low=0.0, high=10.0),
 ]}
+RECORDING_PARAMS = ("mcap_path", "mcap_compression", "rrd_path", "rerun_connect", "record_interval")
 # Scene keys not exposed as parameters: the builder follows from the scene.
 HIDDEN_SCENE_KEYS = {"scene.builder"}
 # Parameters rclpy declares itself, and prefixes of ROS-level overrides we leave alone.
@@ -228,6 +246,7 @@ class SphFsiNode(Node):
         self._pending_keys = set()              # rebuild keys changed since the running simulation was built
         self._pending_scene = None              # new `scene` value, applied at the next reset
         self._pending_qos = None
+        self._pending_recording = {}           # recording parameters changed, applied at the next reset
         self._last_error = ""
         self._sim_time = 0.0
 
@@ -243,6 +262,8 @@ class SphFsiNode(Node):
 
         # simulation-thread-only state
         self.sim = None
+        self._recorder = None
+        self._recordings = 0                    # recorders opened so far (numbers the files after a reset)
         self._thread = threading.Thread(target=self._run, name="simulation", daemon=True)
 
     # ---- parameters ---------------------------------------------------------------------------------------
@@ -350,6 +371,9 @@ class SphFsiNode(Node):
                 elif key == "qos":
                     self._pending_qos = value
                     later.append(key)
+                elif key in RECORDING_PARAMS:
+                    self._pending_recording[key] = value
+                    later.append(key)
                 else:
                     self._settings[key] = value
                     now.append(key)
@@ -417,7 +441,7 @@ class SphFsiNode(Node):
         with self._cv:
             self._commands.append(("reset",))
             pending = sorted(self._pending_keys | ({"scene"} if self._pending_scene is not None else set())
-                             | ({"qos"} if self._pending_qos is not None else set()))
+                             | ({"qos"} if self._pending_qos is not None else set()) | set(self._pending_recording))
             self._cv.notify_all()
         response.success = True
         response.message = "resetting to t = 0" + (f", applying {', '.join(pending)}" if pending else "")
@@ -457,12 +481,13 @@ class SphFsiNode(Node):
         self._thread.start()
 
     def stop(self):
-        """Stop the simulation thread (after its current outer step) and join it."""
+        """Stop the simulation thread (after its current outer step), join it, and close the recordings."""
         with self._cv:
             self._stopping = True
             self._cv.notify_all()
         if self._thread.is_alive():
             self._thread.join()
+        self._close_recorder("interrupted")
 
     def _finish_node(self, code):
         self.exit_code = code
@@ -533,7 +558,9 @@ class SphFsiNode(Node):
             self._publish_diagnostics()
 
     def _build(self, spec):
-        self.sim = Simulation(spec)
+        sim = Simulation(spec)
+        self._close_recorder("reset")
+        self.sim = sim
         self._outer_dt = self.sim.outer_step_duration()
         with self._cv:
             self._finished = False
@@ -545,6 +572,47 @@ class SphFsiNode(Node):
         self._sync_publishers()
         self._publish_walls()
         self._publish_frame()
+        self._open_recorder()
+
+    # ---- recordings (simulation thread; closed by stop() after the thread has ended) ----------------------
+    def _open_recorder(self):
+        with self._cv:
+            self._settings.update(self._pending_recording)
+            self._pending_recording = {}
+        st = self._settings
+        if not (st["mcap_path"] or st["rrd_path"] or st["rerun_connect"]):
+            return
+        n = self._recordings
+        paths = {key: _numbered(st[key], n) if st[key] else None for key in ("mcap_path", "rrd_path")}
+        from .recording import Recorder
+        try:
+            self._recorder = Recorder(self.sim, mcap_path=paths["mcap_path"],
+                                      mcap_compression=st["mcap_compression"], rrd_path=paths["rrd_path"],
+                                      rerun_connect=st["rerun_connect"] or None, interval=st["record_interval"],
+                                      frame_id=st["frame_id"], namespace=self.get_fully_qualified_name(),
+                                      log=self.get_logger().warning)
+        except (OSError, ValueError) as exc:
+            if n == 0:
+                raise SceneError(f"recording: {exc}") from None
+            self.get_logger().error(f"recording not restarted: {exc}")
+            with self._cv:
+                self._last_error = f"recording not restarted: {exc}"
+            return
+        self._recordings += 1
+        self._recorder.maybe_record(self.sim)
+        self.get_logger().info("recording to " + ", ".join(p for p in [paths["mcap_path"], paths["rrd_path"],
+                                                                       st["rerun_connect"]] if p))
+
+    def _close_recorder(self, reason):
+        rec, self._recorder = self._recorder, None
+        if rec is None:
+            return
+        with self._cv:
+            status = "diverged" if self._diverged is not None else "finished" if self._finished else reason
+        stats = rec.close(None if status == "diverged" else self.sim, status=status)
+        self.get_logger().info(f"recording closed ({status}): {rec.frames} frames"
+                               + (f"; the simulation waited {stats['waits']} times for the recorder"
+                                  if stats["waits"] else ""))
 
     def _sync_publishers(self):
         want = topic_plan(self.sim)
@@ -655,6 +723,8 @@ class SphFsiNode(Node):
             except Diverged as exc:
                 self._on_diverged(exc)
                 return
+            if self._recorder is not None:
+                self._recorder.maybe_record(sim)
             done += 1
             self._take_applies()
         now = time.monotonic()
@@ -755,7 +825,7 @@ class SphFsiNode(Node):
                 values[key] = f"{getattr(sim, attr):.6g}"
         with self._cv:
             pending = sorted(self._pending_keys | ({"scene"} if self._pending_scene is not None else set())
-                             | ({"qos"} if self._pending_qos is not None else set()))
+                             | ({"qos"} if self._pending_qos is not None else set()) | set(self._pending_recording))
             diverged = self._diverged
             last_error = self._last_error
         if pending:
