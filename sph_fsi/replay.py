@@ -81,6 +81,7 @@ def replay(path, rate=1.0, wait_for_subscribers=0, wait_timeout=30.0, node_name=
                                          f"{wait_timeout:g} s; playing anyway\n")
                         break
                     stop.wait(0.05)
+                stop.wait(0.3)   # matched on our side: give the subscribers a moment to match us too
             t0_log = wall0 = None
             for _schema, channel, message in reader.iter_messages(log_time_order=True):
                 if stop.is_set():
