@@ -1,26 +1,30 @@
 """Energies and the divergence watchdog.
 
-The watchdog runs after every outer step. Checks, in order: non-finite state, density out of [0.5, 2] rho0,
-particles faster than watchdog.max_speed, particles outside the scene's domain, and (scenes with no energy
-input) kinetic + strain energy above watchdog.energy_growth times its initial value. The first that trips raises
-Diverged naming the check, the simulated time and the particles involved.
+The watchdog runs after every outer step. Checks, in order, for the solid: non-finite state, density out of
+[0.5, 2] rho0, particles faster than watchdog.max_speed, particles outside the scene's domain, and (scenes with no
+energy input) kinetic + strain energy above watchdog.energy_growth times its initial value; for the fluid:
+non-finite state, compression above fluid.max_density_error (the correction lost control), speed, domain, and a
+stable fluid step collapsing below fluid.min_time_step. The first that trips raises Diverged naming the check,
+the simulated time, the phase and the particles involved (indices within their phase).
 """
 import numpy as np
 from numba import njit
 
 
 class Diverged(RuntimeError):
-    """The run left the physically sensible state: `check` tripped at `time` on `particles` (solid indices)."""
+    """The run left the physically sensible state: `check` tripped at `time` on `particles` (indices in `phase`)."""
 
-    def __init__(self, check, time, particles, detail):
+    def __init__(self, check, time, particles, detail, phase="solid"):
         self.check = check
         self.time = time
         self.particles = list(int(i) for i in particles[:10])
         self.detail = detail
+        self.phase = phase
         super().__init__(f"diverged: {check} at t = {time:.6g} s: {detail}")
 
     def as_dict(self):
-        return {"check": self.check, "time": self.time, "particles": self.particles, "detail": self.detail}
+        return {"check": self.check, "time": self.time, "phase": self.phase, "particles": self.particles,
+                "detail": self.detail}
 
 
 @njit(cache=True, fastmath=False, error_model="numpy")
@@ -46,19 +50,56 @@ class Watchdog:
         energies = sim.energies()
         self.initial_energy = sum(energies.values())
 
-    def _trip(self, check, bad, detail):
-        s = self.sim.solid
+    def _trip(self, check, bad, detail, phase="solid"):
+        initial = self.sim._initial_positions if phase == "solid" else self.sim._fluid_initial_positions
         idx = bad[:3]
-        where = "; ".join(f"particle {i} (initially at {np.array2string(self.sim._initial_positions[i], precision=4)}"
-                          f" m)" for i in idx)
-        raise Diverged(check, self.sim.time, bad, f"{detail}; {len(bad)} particle(s), e.g. {where}")
+        where = "; ".join(f"{phase} particle {i} (initially at {np.array2string(initial[i], precision=4)} m)"
+                          for i in idx)
+        raise Diverged(check, self.sim.time, bad, f"{detail}; {len(bad)} {phase} particle(s), e.g. {where}", phase)
+
+    def fluid_step_collapsed(self, dt):
+        """Called by the fluid loop when its stable step falls below fluid.min_time_step: names the fastest."""
+        f = self.sim.fluid
+        speed = np.sqrt((f.vel ** 2).sum(axis=1))
+        self._trip("fluid time step", np.argsort(-speed)[:3],
+                   f"stable fluid step {dt:.3g} s below fluid.min_time_step = "
+                   f"{self.sim.spec['fluid.min_time_step']:g} s (largest speed {speed.max():.4g} m/s)", "fluid")
 
     def check(self):
+        if self.sim.fluid is not None:
+            self.check_fluid()
+        if self.sim.solid is not None:
+            self.check_solid()
+
+    def check_fluid(self):
+        sim = self.sim
+        f = sim.fluid
+        v = sim.spec.values
+        finite = np.isfinite(f.pos).all(axis=1) & np.isfinite(f.vel).all(axis=1) & np.isfinite(f.rho)
+        if not finite.all():
+            self._trip("non-finite state", _where(~finite), "fluid position, velocity or density is NaN/inf",
+                       "fluid")
+        compression = f.rho / v["fluid.density"] - 1.0
+        bad = _where(compression > v["fluid.max_density_error"])
+        if len(bad):
+            bad = bad[np.argsort(-compression[bad])]
+            self._trip("density error", bad, f"fluid compressed by {100 * compression[bad[0]]:.3g} % after the "
+                                             f"correction, above fluid.max_density_error = "
+                                             f"{100 * v['fluid.max_density_error']:g} %", "fluid")
+        speed = np.sqrt((f.vel ** 2).sum(axis=1))
+        bad = _where(speed > v["watchdog.max_speed"])
+        if len(bad):
+            self._trip("speed", bad, f"fluid speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = "
+                                     f"{v['watchdog.max_speed']:g} m/s", "fluid")
+        if self.lo is not None:
+            bad = _where(((f.pos < self.lo) | (f.pos > self.hi)).any(axis=1))
+            if len(bad):
+                self._trip("left the domain", bad, f"fluid outside the box {self.lo} .. {self.hi} m", "fluid")
+
+    def check_solid(self):
         sim = self.sim
         s = sim.solid
         v = sim.spec.values
-        if s is None:
-            return
         finite = (np.isfinite(s.pos).all(axis=1) & np.isfinite(s.vel).all(axis=1)
                   & np.isfinite(s.stress).all(axis=1) & np.isfinite(s.rho))
         if not finite.all():

@@ -93,3 +93,11 @@ def cantilever_references(length, thickness, width, young_modulus, poisson_ratio
     judged = ("fe3d", fe, label) if fe is not None else ("euler_bernoulli", eb, label)
     return {"fe3d_hz": fe, "fe3d_source": label, "euler_bernoulli_hz": eb, "eq15_hz": eq15,
             "judged_against": judged[0], "reference_hz": judged[1]}
+
+
+def martin_moyce_front():
+    """(T, Z) of Martin & Moyce 1952, Fig. 3 (reference_data/martin_moyce_1952_a57mm.csv): surge-front position
+    Z = x_front / a against T = t sqrt(2 g / a) for a column of height 2a, a = 57.15 mm."""
+    import numpy as np
+    rows = read_reference_csv("martin_moyce_1952_a57mm.csv")
+    return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])

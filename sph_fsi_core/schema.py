@@ -147,7 +147,41 @@ SOLID = [
        low=1, high=12, rebuild=False),
 ]
 
-SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID}
+# The incompressible fluid by iterative density correction (Okaji 2002; Satake et al. sec. 2.2).
+FLUID = [
+    _p("fluid.density", 1000.0, "kg/m^3", "Rest density rho0 of the water (walls stand for the same density)",
+       low=1.0, high=1.0e5),
+    _p("fluid.viscosity", 1.0e-6, "m^2/s", "Kinematic viscosity nu of the laminar term, eq. (9) (Morris form)",
+       low=0.0, high=1.0, rebuild=False),
+    _p("fluid.density_tolerance", 0.01, "1",
+       "The correction stops once the compression (rho - rho0)_+ / rho0 is at most this (the paper: 1 %)",
+       low=0.0, low_inclusive=False, high=0.5, rebuild=False),
+    _p("fluid.tolerance_on", "max", "", "Which compression measure the tolerance governs (both are reported)",
+       kind="str", choices=("max", "mean"), rebuild=False),
+    _p("fluid.correction_coefficient", 0.0, "m/s",
+       "c of eq. (7), how far one correction moves a particle (0: automatic, c = correction_kappa * h / dt)",
+       low=0.0, high=1.0e4, rebuild=False),
+    _p("fluid.correction_kappa", 0.5, "1",
+       "With the automatic c: kappa = c dt / h, the size of one correction iteration (stable below about 0.9)",
+       low=0.0, low_inclusive=False, high=2.0, rebuild=False),
+    _p("fluid.min_iterations", 1, "1", "Correction iterations done every step even when already converged",
+       kind="int", low=0, high=1000, rebuild=False),
+    _p("fluid.max_iterations", 200, "1",
+       "Correction iterations at most per step; a step that reaches it is counted and reported", kind="int",
+       low=1, high=100000, rebuild=False),
+    _p("fluid.cfl", 0.2, "1", "Fluid time step dt = cfl * h / |v|max (also cfl * sqrt(h / |g|), 0.125 h^2 / nu)",
+       low=0.0, low_inclusive=False, high=1.0, rebuild=False),
+    _p("fluid.time_step", 0.0, "s",
+       "Forced fluid time step (0: automatic); refused above the stable limit, clamped to it with a warning if "
+       "the limit falls below it during the run", low=0.0, high=1.0, rebuild=False),
+    _p("fluid.min_time_step", 1.0e-7, "s", "A stable fluid step below this stops the run as diverged",
+       low=0.0, low_inclusive=False, high=1.0, rebuild=False),
+    _p("fluid.max_density_error", 0.2, "1",
+       "A step ending with max compression above this stops the run as diverged (watchdog)", low=0.0,
+       low_inclusive=False, high=10.0, rebuild=False),
+]
+
+SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID, "fluid": FLUID}
 # Phases a scene may have; a scene whose builder lacks one refuses its section by name.
 PHASE_NAMES = ("solid", "fluid", "walls", "coupling")
 

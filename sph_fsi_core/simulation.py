@@ -1,9 +1,11 @@
 """The one time loop. `Simulation` builds a scene's phases and advances them; everything else only reads state.
 
-`step()` advances one outer step. For a solid-only scene that is one time-series interval, taken as an integer
-number of solid steps no larger than the stable step; the loop over solid steps runs compiled
-(solid_stepper.solid_leapfrog). After every outer step the watchdog checks the state, so a run that goes wrong
-stops within one outer step with a diagnosis and nothing non-finite ever leaves the simulator.
+`step()` advances one outer step, one time-series interval. The solid takes it as an integer number of solid
+steps no larger than the stable step; the loop over solid steps runs compiled (solid_stepper.solid_leapfrog).
+The fluid takes it as whole fluid steps (fluid_stepper.FluidSolver.step), each no larger than its stable step,
+the last ones shortened evenly so the interval ends on a step. After every outer step the watchdog checks the
+state, so a run that goes wrong stops within one outer step with a diagnosis and nothing non-finite ever leaves
+the simulator. Phases a scene does not have are None and cost nothing: no arrays, lists or passes.
 """
 import math
 import time as _time
@@ -11,6 +13,7 @@ import time as _time
 import numpy as np
 
 from .diagnostics import Diverged, Watchdog, kinetic_energy
+from .fluid_stepper import FluidSolver
 from .neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
@@ -37,6 +40,9 @@ class Simulation:
         v = self.spec.values
         built = self.builder.build(v)
         self.solid = built.solid
+        self.fluid = built.fluid
+        self.walls = built.walls
+        self.domain_lo, self.domain_hi = built.domain_lo, built.domain_hi
         self.probes = built.probes
         self.period = built.period
         self.spacing = v["numerics.spacing"]
@@ -57,6 +63,23 @@ class Simulation:
             self._apply_solid_settings()
             self._rebuild_solid_neighbours()
             self._solid_acceleration()
+        self.fluid_solver = None
+        self.fluid_steps = 0
+        self.fluid_iterations = 0          # correction iterations, all steps
+        self.fluid_capped_steps = 0        # steps that reached fluid.max_iterations
+        self.last_fluid_dt = 0.0
+        self.last_fluid_substeps = 0
+        self.last_density_iterations = 0   # of the last fluid step
+        self.last_density_error = 0.0      # max compression after the last fluid step
+        self.last_density_error_mean = 0.0
+        self._interval_stats = {}
+        self._fluid_dt_clamped = False
+        if self.fluid is not None:
+            self._fluid_initial_positions = self.fluid.pos.copy()
+            self.fluid_solver = FluidSolver(self.fluid, self.walls, self.h, self.period, built.domain_lo,
+                                            built.domain_hi, v["numerics.neighbour_skin"] * self.h)
+            self._apply_fluid_settings()
+            self.last_density_error, self.last_density_error_mean = self.fluid_solver.density()
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
 
     def _solid_settings(self, spec):
@@ -81,6 +104,31 @@ class Simulation:
                              f"(solid.cfl * h / (c0 + |v|max) with c0 = {c0:.4g} m/s); "
                              f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
         return bulk, shear, c0, params
+
+    def _fluid_settings(self, spec):
+        """The fluid solver's settings from `spec`; SceneError if a forced fluid.time_step is above the stable limit."""
+        v = spec.values
+        settings = dict(rho0=v["fluid.density"], nu=v["fluid.viscosity"], gravity=v["scene.gravity"],
+                        tolerance=v["fluid.density_tolerance"], tolerance_on=v["fluid.tolerance_on"],
+                        coefficient=v["fluid.correction_coefficient"], kappa=v["fluid.correction_kappa"],
+                        min_iterations=v["fluid.min_iterations"], max_iterations=v["fluid.max_iterations"])
+        if v["fluid.min_iterations"] > v["fluid.max_iterations"]:
+            raise SceneError(f"fluid.min_iterations = {v['fluid.min_iterations']}: above fluid.max_iterations = "
+                             f"{v['fluid.max_iterations']}; allowed: at most fluid.max_iterations")
+        forced = v["fluid.time_step"]
+        if forced > 0.0:
+            saved = (self.fluid_solver.nu, self.fluid_solver.gravity)
+            self.fluid_solver.nu, self.fluid_solver.gravity = settings["nu"], settings["gravity"]
+            limit = self.fluid_solver.stable_dt(v["fluid.cfl"])
+            self.fluid_solver.nu, self.fluid_solver.gravity = saved
+            if forced > limit:
+                raise SceneError(f"fluid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
+                                 f"(min of fluid.cfl * h / |v|max, fluid.cfl * sqrt(h / |g|), 0.125 h^2 / nu); "
+                                 f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
+        return settings
+
+    def _apply_fluid_settings(self):
+        self.fluid_solver.configure(**self._fluid_settings(self.spec))
 
     def _apply_solid_settings(self):
         self.bulk_modulus, self.shear_modulus, self.sound_speed, self.solid_params = self._solid_settings(self.spec)
@@ -110,6 +158,8 @@ class Simulation:
         live_spec = self.spec.with_overrides({k: v for k, v in overrides.items() if k not in deferred})
         if self.solid is not None:
             self._solid_settings(live_spec)
+        if self.fluid is not None:
+            self._fluid_settings(live_spec)
         return live_spec, deferred
 
     def apply(self, overrides):
@@ -123,6 +173,8 @@ class Simulation:
         self.spec = live_spec
         if self.solid is not None:
             self._apply_solid_settings()
+        if self.fluid is not None:
+            self._apply_fluid_settings()
         return deferred
 
     @property
@@ -170,6 +222,8 @@ class Simulation:
             self._advance_solid(n, dt)
             self.last_solid_dt, self.last_substeps = dt, n
             self.solid_steps += n
+        if self.fluid is not None:
+            self._advance_fluid(duration)
         self.time += duration
         self.outer_steps += 1
         self.watchdog.check()
@@ -187,6 +241,62 @@ class Simulation:
                 self._rebuild_solid_neighbours()
                 force = True
 
+    def stable_fluid_dt(self):
+        """The fluid's stable step (fluid_stepper.FluidSolver.stable_dt)."""
+        return self.fluid_solver.stable_dt(self.spec["fluid.cfl"])
+
+    def _fluid_dt(self, at_time):
+        limit = self.stable_fluid_dt()
+        forced = self.spec["fluid.time_step"]
+        if forced > 0.0:
+            if forced > limit:
+                if not self._fluid_dt_clamped:
+                    self.warnings.append(f"t = {at_time:.6g} s: fluid.time_step {forced:g} s exceeds the stable "
+                                         f"limit {limit:.4g} s now; clamped to the limit while it does")
+                self._fluid_dt_clamped = True
+                return limit
+            self._fluid_dt_clamped = False
+            return forced
+        return limit
+
+    def _advance_fluid(self, duration):
+        """Whole fluid steps covering `duration`; per-interval statistics for sample()."""
+        solver = self.fluid_solver
+        done, steps, iterations, most, capped = 0.0, 0, 0, 0, 0
+        worst_max, worst_mean = 0.0, 0.0
+        while duration - done > 1e-12 * duration:
+            remaining = duration - done
+            dt_max = self._fluid_dt(self.time + done)
+            n = max(1, math.ceil(remaining / dt_max * (1.0 - 1e-12)))
+            dt = remaining / n
+            if dt < self.spec["fluid.min_time_step"]:
+                self.watchdog.fluid_step_collapsed(dt)
+            report = solver.step(dt)
+            done += dt
+            steps += 1
+            iterations += report.iterations
+            most = max(most, report.iterations)
+            worst_max = max(worst_max, report.error_max)
+            worst_mean = max(worst_mean, report.error_mean)
+            self.last_fluid_dt = dt
+            self.last_density_iterations = report.iterations
+            self.last_density_error, self.last_density_error_mean = report.error_max, report.error_mean
+            if report.capped:
+                capped += 1
+        self.fluid_steps += steps
+        self.fluid_iterations += iterations
+        self.last_fluid_substeps = steps
+        if capped:
+            self.fluid_capped_steps += capped
+            self.warnings.append(
+                f"t = {self.time:.6g} .. {self.time + duration:.6g} s: {capped} of {steps} fluid step(s) reached "
+                f"fluid.max_iterations = {self.spec['fluid.max_iterations']} with max compression "
+                f"{100 * worst_max:.3g} % (tolerance {100 * self.spec['fluid.density_tolerance']:g} % on the "
+                f"{self.spec['fluid.tolerance_on']})")
+        self._interval_stats = {"iterations_mean": iterations / steps, "iterations_max": most,
+                                "density_error_max": worst_max, "density_error_mean": worst_mean,
+                                "capped_steps": capped}
+
     # ---- read-only views ----------------------------------------------------------------------------------
     @property
     def phases(self):
@@ -194,7 +304,20 @@ class Simulation:
 
     @property
     def particle_count(self):
-        return self.solid.count if self.solid is not None else 0
+        """All particles of the scene: solid (clamp included), fluid and wall."""
+        return sum(state.count for state in (self.solid, self.fluid, self.walls) if state is not None)
+
+    @property
+    def particle_counts(self):
+        """{phase: count} for the phases the scene has (solid_moving: the solid without its clamp)."""
+        out = {}
+        if self.solid is not None:
+            out["solid"], out["solid_moving"] = self.solid.count, self.solid.moving_count
+        if self.fluid is not None:
+            out["fluid"] = self.fluid.count
+        if self.walls is not None:
+            out["walls"] = self.walls.count
+        return out
 
     def energies(self):
         """{'kinetic_energy', 'strain_energy'} in J for the phases the scene has."""
@@ -204,10 +327,15 @@ class Simulation:
             out["kinetic_energy"] = kinetic_energy(s.mass, s.vel, s.movable)
             out["strain_energy"] = strain_energy(s.mass, s.rho, s.stress, s.pressure, self.shear_modulus,
                                                  self.bulk_modulus)
+        if self.fluid is not None:
+            f = self.fluid
+            out["fluid_kinetic_energy"] = float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())
         return out
 
     def probe_displacements(self):
-        return {p.name: p.displacement(self.solid.pos if p.phase == "solid" else None) for p in self.probes}
+        positions = {"solid": self.solid.pos if self.solid is not None else None,
+                     "fluid": self.fluid.pos if self.fluid is not None else None}
+        return {p.name: p.displacement(positions[p.phase]) for p in self.probes}
 
     def sample(self):
         """One time-series row: time, probe displacements, energies, step sizes, scene extras."""
@@ -220,4 +348,13 @@ class Simulation:
             row["solid_substeps"] = self.last_substeps
             if hasattr(self.builder, "sample"):
                 row.update(self.builder.sample(self.solid, self.probes))
+        if self.fluid is not None:
+            stats = self._interval_stats or {"iterations_mean": 0.0, "iterations_max": 0,
+                                             "density_error_max": self.last_density_error,
+                                             "density_error_mean": self.last_density_error_mean, "capped_steps": 0}
+            row["fluid_dt"] = self.last_fluid_dt
+            row["fluid_substeps"] = self.last_fluid_substeps
+            row.update(stats)
+            if hasattr(self.builder, "sample_fluid"):
+                row.update(self.builder.sample_fluid(self))
         return row

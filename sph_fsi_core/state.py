@@ -45,6 +45,54 @@ class SolidState:
 
 
 @dataclass
+class FluidState:
+    """Water particles of the density-correction fluid (Satake et al. sec. 2.2).
+
+    `pressure` is the pressure that made this step's correction: the sum over the step's correction iterations of
+    eq. (7)'s c^2 (rho - rho0)_+ (see fluid_okaji.py); `rho` the summation density (1) at the current positions.
+    `correction_displacement` is r(t+dt) - r* of the last step, what the density correction moved each particle
+    (kept for the coupling of eq. (10)).
+    """
+    pos: np.ndarray          # (N, 3) m
+    vel: np.ndarray          # (N, 3) m/s
+    rho: np.ndarray          # (N,) kg/m^3
+    pressure: np.ndarray     # (N,) Pa
+    mass: np.ndarray         # (N,) kg
+    correction_displacement: np.ndarray = field(default=None)   # (N, 3) m
+
+    def __post_init__(self):
+        if self.correction_displacement is None:
+            self.correction_displacement = np.zeros((len(self.pos), 3))
+
+    @classmethod
+    def at_rest(cls, pos, density, spacing):
+        n = len(pos)
+        return cls(pos=np.ascontiguousarray(pos, dtype=np.float64), vel=np.zeros((n, 3)),
+                   rho=np.full(n, float(density)), pressure=np.zeros(n), mass=np.full(n, float(density) * spacing ** 3))
+
+    @property
+    def count(self):
+        return len(self.pos)
+
+
+@dataclass
+class WallState:
+    """Fixed wall particles: they never move; fluid particles count their mass at their positions in eq. (1)."""
+    pos: np.ndarray          # (N, 3) m
+    mass: np.ndarray         # (N,) kg
+    rho0: float              # kg/m^3, the density the wall stands for (the fluid's rest density)
+
+    @classmethod
+    def lattice(cls, pos, density, spacing):
+        return cls(pos=np.ascontiguousarray(pos, dtype=np.float64), mass=np.full(len(pos), float(density) * spacing ** 3),
+                   rho0=float(density))
+
+    @property
+    def count(self):
+        return len(self.pos)
+
+
+@dataclass
 class Probe:
     """A named group of particles whose mean displacement is reported (e.g. a beam's free end)."""
     name: str

@@ -79,7 +79,7 @@ def test_cantilever_build():
     assert np.all(np.diff(s.vel[s.movable][order, 2]) >= -1e-15)
     # no fluid phase
     assert cantilever.PHASES == ("solid",)
-    assert not hasattr(built, "fluid")
+    assert built.fluid is None and built.walls is None
     assert np.all(built.domain_lo < s.pos.min(axis=0)) and np.all(built.domain_hi > s.pos.max(axis=0))
 
 

@@ -9,8 +9,9 @@ Builder module interface:
     check(values)               SceneError for inconsistent values (e.g. spacing larger than the body)
     build(values) -> Built      particles, probes, domain
     evaluate(series, values)    {measured quantities, reference, error} from the run's time series
+    sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure
 """
-from . import cantilever
+from . import cantilever, dam_break, hydrostatic
 
-BUILDERS = {"cantilever": cantilever}
+BUILDERS = {"cantilever": cantilever, "hydrostatic": hydrostatic, "dam_break": dam_break}
 DEFAULT_SCENE = "cantilever"

@@ -3,12 +3,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..state import SolidState
+from ..state import FluidState, SolidState, WallState
 
 
 @dataclass
 class Built:
-    solid: SolidState | None
+    solid: SolidState | None = None
+    fluid: FluidState | None = None
+    walls: WallState | None = None
     probes: list = field(default_factory=list)
     domain_lo: np.ndarray = None   # particles leaving this box stop the run as diverged
     domain_hi: np.ndarray = None

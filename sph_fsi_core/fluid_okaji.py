@@ -1,0 +1,227 @@
+"""Incompressible fluid by iterative density correction (Okaji 2002, as used by Satake et al. sec. 2.2): the passes.
+
+Each function is one pass over the fluid particles (targets) and their neighbours: fluid neighbours from a full
+list (every pair in both rows, the particle's own pair included, so a pass is a race-free gather under prange)
+and wall neighbours from a second list whose sources are the fixed wall particles. The step driver that calls
+them in order is fluid_stepper.py.
+
+Choices where the paper is open (docs/method.md, "Fluid"):
+
+- Free surface: summation density (1) is short of rho0 wherever the kernel is cut by the surface, so eq. (7)'s
+  pressure is clamped at p >= 0 (no tension) and the density error that the loop drives down is the compression
+  (rho - rho0)_+ / rho0 only. Uncompressed particles are left where they are.
+- Walls: wall particles sit on the fluid's lattice (spacing dp, mass rho0 dp^3), in at least three layers so a
+  fluid particle's kernel never reaches past them; they enter the density sum (1) with their mass at their fixed
+  positions, so a fluid particle pressing against a wall is compressed and gets a pressure. In the pressure term
+  of (2) a wall particle carries the Shepard average of its fluid neighbours' pressures,
+  p_w = sum_f p_f W_wf / sum_f W_wf (Adami, Hu & Adams 2012 without their acceleration term: the iteration
+  pressure is a compression, not a hydrostatic field), with density rho0. Mirroring the fluid particle's own
+  pressure instead (p_w = p_a) was tried first: next to a vertical wall it halves the vertical pressure gradient
+  (the wall half of the kernel sees a constant), the wall-side water sinks and stirs the tank. Both terms of a
+  wall pair are >= 0, so a wall only ever pushes. Walls take no part in the viscous term (free slip; see
+  `viscous_velocity`).
+- Pressure output: one correction moves particles by -dt^2 grad(p)/rho, so the correction of a whole step is that
+  of the sum of the iterations' pressures; that sum (`pressure` here) is the pressure that held the fluid
+  incompressible over the step, the one to compare with rho g depth.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernels import cubic_spline_wf
+from .neighbours import minimum_image
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho, f_fluid,
+                      f_wall):
+    """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions.
+
+    Also caches F_ab = (dW/dr)/r per pair (`f_fluid`, `f_wall`, aligned with the lists' `index`), for the
+    pressure-gradient and viscous passes at the same positions.
+    """
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    px, py, pz = period[0], period[1], period[2]
+    for a in prange(pos.shape[0]):
+        xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+        s = 0.0
+        for k in range(fstart[a], fstart[a + 1]):
+            b = findex[k]
+            dx = minimum_image(xa - pos[b, 0], px)
+            dy = minimum_image(ya - pos[b, 1], py)
+            dz = minimum_image(za - pos[b, 2], pz)
+            w, f = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+            s += mass[b] * w
+            f_fluid[k] = f
+        for k in range(wstart[a], wstart[a + 1]):
+            b = windex[k]
+            dx = minimum_image(xa - wall_pos[b, 0], px)
+            dy = minimum_image(ya - wall_pos[b, 1], py)
+            dz = minimum_image(za - wall_pos[b, 2], pz)
+            w, f = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+            s += wall_mass[b] * w
+            f_wall[k] = f
+        rho[a] = s
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def compression_error(rho, rho0):
+    """(max, mean) over fluid particles of the compression (rho_a - rho0)_+ / rho0, the loop's density error.
+
+    One-sided: a density below rho0 is the free surface's truncated kernel, not a compression (module docstring).
+    """
+    n = rho.shape[0]
+    largest = 0.0
+    total = 0.0
+    for a in range(n):
+        e = (rho[a] - rho0) / rho0
+        if e > 0.0:
+            total += e
+            if e > largest:
+                largest = e
+    return largest, (total / n if n > 0 else 0.0)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def correction_pressure(rho, rho0, c2, p, p_over_rho2, accumulated):
+    """Eq. (7) with p0 = 0 and no tension: p_a = c^2 max(rho_a - rho0, 0); also p_a / rho_a^2 for eq. (2), and
+    the step's pressure sum `accumulated` += p_a (the pressure output, module docstring)."""
+    for a in prange(rho.shape[0]):
+        pa = c2 * max(rho[a] - rho0, 0.0)
+        p[a] = pa
+        p_over_rho2[a] = pa / (rho[a] * rho[a])
+        accumulated[a] += pa
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def wall_pressure(wall_pos, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2):
+    """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
+    (0 without any), stored as p_w / rho0^2. Only wall particles with fluid neighbours cost anything."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    px, py, pz = period[0], period[1], period[2]
+    for w in prange(wall_pos.shape[0]):
+        num = 0.0
+        den = 0.0
+        for k in range(wfstart[w], wfstart[w + 1]):
+            f = wfindex[k]
+            dx = minimum_image(wall_pos[w, 0] - pos[f, 0], px)
+            dy = minimum_image(wall_pos[w, 1] - pos[f, 1], py)
+            dz = minimum_image(wall_pos[w, 2] - pos[f, 2], pz)
+            kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+            num += p[f] * kern
+            den += kern
+        wall_p_over_rho2[w] = num / den / (rho0 * rho0) if den > 0.0 else 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
+                          wstart, windex, f_wall, period, dt2, disp):
+    """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
+
+        dv_a/dt = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab,    grad_a W_ab = F_ab (r_a - r_b),
+
+    wall neighbours with their extrapolated pressure (module docstring). F_ab from the density pass at the same
+    positions. Writes `disp` only (Jacobi: every particle sees its neighbours where they were).
+    """
+    px, py, pz = period[0], period[1], period[2]
+    for a in prange(pos.shape[0]):
+        xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+        qa = p_over_rho2[a]
+        ax = 0.0
+        ay = 0.0
+        az = 0.0
+        for k in range(fstart[a], fstart[a + 1]):
+            b = findex[k]
+            c = mass[b] * (qa + p_over_rho2[b]) * f_fluid[k]
+            if c != 0.0:
+                ax += c * minimum_image(xa - pos[b, 0], px)
+                ay += c * minimum_image(ya - pos[b, 1], py)
+                az += c * minimum_image(za - pos[b, 2], pz)
+        for k in range(wstart[a], wstart[a + 1]):
+            b = windex[k]
+            c = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
+            if c != 0.0:
+                ax += c * minimum_image(xa - wall_pos[b, 0], px)
+                ay += c * minimum_image(ya - wall_pos[b, 1], py)
+                az += c * minimum_image(za - wall_pos[b, 2], pz)
+        disp[a, 0] = -dt2 * ax
+        disp[a, 1] = -dt2 * ay
+        disp[a, 2] = -dt2 * az
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def apply_displacement(pos, disp, total):
+    """pos += disp; total += disp (the step's correction displacement r(t+dt) - r*)."""
+    for a in prange(pos.shape[0]):
+        for k in range(3):
+            pos[a, k] += disp[a, k]
+            total[a, k] += disp[a, k]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def velocity_from_displacement(pos, pos_old, dt, vel):
+    """Eq. (8): v*_a = (r_a(t+dt) - r_a(t)) / dt."""
+    inv_dt = 1.0 / dt
+    for a in prange(pos.shape[0]):
+        for k in range(3):
+            vel[a, k] = (pos[a, k] - pos_old[a, k]) * inv_dt
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu, dt, vel_out):
+    """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
+
+        v_a = v*_a + dt sum_b m_b (mu_a + mu_b) / (rho_a rho_b) (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab,
+
+    mu = rho nu, v_ab = v*_a - v*_b; r_ab . grad_a W_ab = F_ab r_ab^2 < 0, so the sum diffuses momentum and
+    conserves it pair by pair. Fluid neighbours only: the walls are free-slip, because the real boundary layer,
+    sqrt(nu t) ~ 0.4 mm at t = 0.2 s, is thinner than any particle spacing used here and a no-slip wall would
+    spread it over 2h. Writes `vel_out` (Jacobi).
+    """
+    eta2 = 0.01 * h * h
+    px, py, pz = period[0], period[1], period[2]
+    for a in prange(pos.shape[0]):
+        xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+        mua = rho[a] * nu
+        sx = 0.0
+        sy = 0.0
+        sz = 0.0
+        for k in range(fstart[a], fstart[a + 1]):
+            b = findex[k]
+            if b == a:
+                continue
+            dx = minimum_image(xa - pos[b, 0], px)
+            dy = minimum_image(ya - pos[b, 1], py)
+            dz = minimum_image(za - pos[b, 2], pz)
+            r2 = dx * dx + dy * dy + dz * dz
+            c = mass[b] * (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
+            sx += c * (vel[a, 0] - vel[b, 0])
+            sy += c * (vel[a, 1] - vel[b, 1])
+            sz += c * (vel[a, 2] - vel[b, 2])
+        vel_out[a, 0] = vel[a, 0] + dt * sx
+        vel_out[a, 1] = vel[a, 1] + dt * sy
+        vel_out[a, 2] = vel[a, 2] + dt * sz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def gravity_and_predictor(pos, vel, dt, gx, gy, gz, pos_old):
+    """Step 1-2 of the fluid step: v_a += g dt (body force), then eq. (6), r*_a = r_a + v_a dt; keeps r_a(t)."""
+    for a in prange(pos.shape[0]):
+        vel[a, 0] += gx * dt
+        vel[a, 1] += gy * dt
+        vel[a, 2] += gz * dt
+        for k in range(3):
+            pos_old[a, k] = pos[a, k]
+            pos[a, k] += vel[a, k] * dt
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def wrap_periodic(pos, period, lo):
+    """Put positions back into the periodic box [lo, lo + period) on periodic axes (after a step's velocity)."""
+    for k in range(3):
+        if period[k] > 0.0:
+            for a in range(pos.shape[0]):
+                pos[a, k] = lo[k] + (pos[a, k] - lo[k]) % period[k]

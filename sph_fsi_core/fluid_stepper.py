@@ -1,0 +1,212 @@
+"""The fluid step of Satake et al. sec. 2.2 (Okaji 2002): gravity, predictor (6), density correction, (8), (9).
+
+One step of size dt:
+
+    v += g dt;  r* = r + v dt                                        (body force, eq. (6))
+    repeat:  rho from eq. (1) at r*;  stop if converged (below);
+             p = c^2 (rho - rho0)_+  (7);  r* += dt^2 dv/dt of eq. (2)    (one correction iteration)
+    r(t+dt) = r*;  v* = (r(t+dt) - r(t)) / dt                          (eq. (8))
+    v = v* + dt (viscous term of eq. (9), Morris form)
+
+Convergence: the compression (rho - rho0)_+ / rho0 is measured as its maximum and its mean over the fluid; the
+one named by fluid.tolerance_on must be at most fluid.density_tolerance (the paper: 1 %), after at least
+fluid.min_iterations corrections. A step that reaches fluid.max_iterations stops there and is counted and
+reported (`capped`), never silently accepted.
+
+The correction coefficient c: one iteration moves a particle by dt^2 c^2 (grad rho)/rho^2 ~ (c dt / h)^2 h
+times its relative compression, so what sets the iteration's stability and speed is kappa = c dt / h, not c.
+fluid.correction_coefficient = 0 (the default) takes c = kappa h / dt with kappa = fluid.correction_kappa, so the
+iteration behaves the same at any dt; a positive value fixes c in m/s (then a large dt can make it unstable).
+
+Neighbour lists: fluid-fluid (full) and fluid-wall, cutoff 2h + skin, built at r* when some particle has moved
+more than half the skin since the last build and reused by every iteration of the step (and by later steps
+while valid); the loop checks the skin before every density pass and rebuilds mid-step if it must.
+"""
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from .fluid_okaji import (apply_displacement, compression_error, correction_pressure, gravity_and_predictor,
+                          pressure_displacement, summation_density, wall_pressure, velocity_from_displacement, viscous_velocity,
+                          wrap_periodic)
+from .kernels import SUPPORT_RADIUS_IN_H
+from .neighbours import NeighbourList, max_displacement
+
+CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
+
+
+class StepReport(NamedTuple):
+    """What one fluid step did: correction iterations, final compression (max, mean), whether it hit the cap."""
+    dt: float
+    iterations: int
+    error_max: float
+    error_mean: float
+    capped: bool
+    rebuilds: int
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
+                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, wfstart, wfindex, period, h, rho0, c2, dt2,
+                    tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total):
+    """The density-correction iterations of one step, from iteration `it_start`.
+
+    Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
+    has moved more than half the skin since the lists were built (the caller rebuilds and calls again).
+    """
+    it = it_start
+    while True:
+        if max_displacement(pos, pos_at_build) > half_skin:
+            return it, -1.0, -1.0, NEEDS_REBUILD
+        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho, f_fluid,
+                          f_wall)
+        emax, emean = compression_error(rho, rho0)
+        err = emean if on_mean else emax
+        if it >= min_iterations and err <= tolerance:
+            return it, emax, emean, CONVERGED
+        if it >= max_iterations:
+            return it, emax, emean, CAPPED
+        correction_pressure(rho, rho0, c2, p, p_over_rho2, accumulated)
+        if wall_pos.shape[0] > 0:
+            wall_pressure(wall_pos, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2)
+        pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
+                              wall_p_over_rho2, wstart, windex, f_wall, period, dt2, disp)
+        apply_displacement(pos, disp, total)
+        it += 1
+
+
+class FluidSolver:
+    """The fluid's work arrays, neighbour lists and settings; `step(dt)` advances the fluid by one step."""
+
+    def __init__(self, fluid, walls, h, period, box_lo, box_hi, skin):
+        self.fluid = fluid
+        self.walls = walls
+        self.h = float(h)
+        self.period = np.asarray(period, dtype=np.float64)
+        self.box_lo = np.asarray(box_lo if box_lo is not None else np.zeros(3), dtype=np.float64)
+        n = fluid.count
+        radius = SUPPORT_RADIUS_IN_H * self.h
+        self.skin = float(skin)
+        self.fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        self.wall_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        self.wall_fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        self.wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
+        self.wall_mass = walls.mass if walls is not None else np.zeros(0)
+        self.wall_p_over_rho2 = np.zeros(len(self.wall_mass))
+        self._no_walls_start = np.zeros(n + 1, dtype=np.int64)
+        self._no_walls_index = np.zeros(0, dtype=np.int32)
+        self.pos_old = np.zeros((n, 3))
+        self.disp = np.zeros((n, 3))
+        self.p = np.zeros(n)
+        self.p_over_rho2 = np.zeros(n)
+        self.vel_work = np.zeros((n, 3))
+        self.f_fluid = np.zeros(0)
+        self.f_wall = np.zeros(0)
+        self.builds = 0
+        # settings (configure())
+        self.rho0 = 1000.0
+        self.nu = 1.0e-6
+        self.gravity = (0.0, 0.0, 0.0)
+        self.tolerance = 0.01
+        self.on_mean = False
+        self.coefficient = 0.0
+        self.kappa = 1.0
+        self.min_iterations = 1
+        self.max_iterations = 100
+        self.rebuild()
+        self.density()
+
+    def configure(self, rho0, nu, gravity, tolerance, tolerance_on, coefficient, kappa, min_iterations,
+                  max_iterations):
+        self.rho0, self.nu = float(rho0), float(nu)
+        self.gravity = tuple(float(g) for g in gravity)
+        self.tolerance = float(tolerance)
+        self.on_mean = tolerance_on == "mean"
+        self.coefficient, self.kappa = float(coefficient), float(kappa)
+        self.min_iterations, self.max_iterations = int(min_iterations), int(max_iterations)
+
+    # ---- neighbour lists -------------------------------------------------------------------------------
+    def rebuild(self):
+        pos = self.fluid.pos
+        self.fluid_neighbours.build(pos, pos)
+        if len(self.f_fluid) < self.fluid_neighbours.pairs:
+            self.f_fluid = np.zeros(int(1.25 * self.fluid_neighbours.pairs) + 16)
+        if self.walls is not None:
+            self.wall_neighbours.build(pos, self.wall_pos)
+            self.wall_fluid_neighbours.build(self.wall_pos, pos)
+            if len(self.f_wall) < self.wall_neighbours.pairs:
+                self.f_wall = np.zeros(int(1.25 * self.wall_neighbours.pairs) + 16)
+        self.builds += 1
+
+    def _wall_rows(self):
+        """(fluid->wall start, index, wall->fluid start, index); empty rows when the scene has no walls."""
+        if self.walls is None:
+            return self._no_walls_start, self._no_walls_index, np.zeros(1, dtype=np.int64), self._no_walls_index
+        return (self.wall_neighbours.start, self.wall_neighbours.index, self.wall_fluid_neighbours.start,
+                self.wall_fluid_neighbours.index)
+
+    def density(self):
+        """Eq. (1) at the current positions (lists must be valid); returns (max, mean) compression."""
+        fl, nb = self.fluid, self.fluid_neighbours
+        wstart, windex, _, _ = self._wall_rows()
+        summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
+                          self.period, self.h, fl.rho, self.f_fluid, self.f_wall)
+        return compression_error(fl.rho, self.rho0)
+
+    # ---- time step ---------------------------------------------------------------------------------------
+    def max_speed(self):
+        v = self.fluid.vel
+        return float(np.sqrt((v * v).sum(axis=1).max())) if len(v) else 0.0
+
+    def stable_dt(self, cfl):
+        """min of: cfl h / |v|max (advection), cfl sqrt(h / |g|) (body force), 0.125 h^2 / nu (viscous diffusion,
+        Morris et al. 1997). At rest only the last two bound it."""
+        limits = [0.125 * self.h * self.h / self.nu]
+        g = math.sqrt(sum(x * x for x in self.gravity))
+        if g > 0.0:
+            limits.append(cfl * math.sqrt(self.h / g))
+        vmax = self.max_speed()
+        if vmax > 0.0:
+            limits.append(cfl * self.h / vmax)
+        return min(limits)
+
+    def correction_c(self, dt):
+        """c of eq. (7): fluid.correction_coefficient, or kappa h / dt when that is 0 (module docstring)."""
+        return self.coefficient if self.coefficient > 0.0 else self.kappa * self.h / dt
+
+    # ---- one step ----------------------------------------------------------------------------------------
+    def step(self, dt):
+        fl = self.fluid
+        gravity_and_predictor(fl.pos, fl.vel, dt, self.gravity[0], self.gravity[1], self.gravity[2], self.pos_old)
+        fl.correction_displacement[:] = 0.0
+        fl.pressure[:] = 0.0
+        c = self.correction_c(dt)
+        it, rebuilds = 0, 0
+        while True:
+            if self.fluid_neighbours.is_stale(fl.pos, fl.pos):
+                self.rebuild()
+                rebuilds += 1
+            nb = self.fluid_neighbours
+            wstart, windex, wfstart, wfindex = self._wall_rows()
+            it, emax, emean, status = correction_loop(
+                it, fl.pos, fl.mass, fl.rho, self.p, self.p_over_rho2, fl.pressure, nb.start, nb.index, self.f_fluid,
+                self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, wfstart, wfindex,
+                self.period, self.h, self.rho0, c * c,
+                dt * dt, self.tolerance, self.on_mean, self.min_iterations, self.max_iterations,
+                nb._targets_at_build, 0.5 * self.skin, self.disp, fl.correction_displacement)
+            if status != NEEDS_REBUILD:
+                break
+            if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it
+                break
+            self.rebuild()
+            rebuilds += 1
+        velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
+        if self.nu > 0.0:
+            viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period, self.h,
+                             self.nu, dt, self.vel_work)
+            fl.vel[:] = self.vel_work
+        if self.period.any():
+            wrap_periodic(fl.pos, self.period, self.box_lo)
+        return StepReport(dt, it, emax, emean, status == CAPPED, rebuilds)

@@ -1,0 +1,111 @@
+"""Collapse of a water column along a floor, against Martin & Moyce 1952's surge-front positions.
+
+Column: width a (x) by height 2a (z) (Martin & Moyce's n^2 = 2, a = 57.15 mm) against the tank's left end wall
+at x = 0, on the floor z = 0, across a slab of `span_layers` particle layers in y, periodic along y by default (a
+thin slab of a 2D column). Tank: `tank_length` long (rounded to whole spacings), open at the top, walls of
+`wall_layers` layers. Front: the foremost fluid particle's x plus dp/2 (the edge of its volume), so Z(0) = 1.
+Judged on Z = x_front / a against reference_data/martin_moyce_1952_a57mm.csv at the measured T = t sqrt(2 g / a)
+up to T = 3: relative error per point and their RMS.
+"""
+import math
+
+import numpy as np
+
+from ..references import martin_moyce_front
+from ..schema import Param, SceneError
+from ..state import FluidState, WallState
+from . import tank
+from .built import Built
+from .hydrostatic import check_walls_and_span
+
+PHASES = ("fluid", "walls")
+CONSERVATIVE = False
+
+COLUMN_WIDTH = 0.05715   # m, Martin & Moyce's a = 2.25 in
+EVALUATE_UP_TO_T = 3.0   # the issue's range; later the surge reaches the far wall of a short tank
+
+GEOMETRY = [
+    Param("geometry.column_width", COLUMN_WIDTH, "m", "Column width a along x (Martin & Moyce: 57.15 mm)",
+          low=0.0, low_inclusive=False, high=10.0),
+    Param("geometry.column_height", 2 * COLUMN_WIDTH, "m", "Column height along z (Martin & Moyce: 2a)", low=0.0,
+          low_inclusive=False, high=20.0),
+    Param("geometry.tank_length", 0.30, "m", "Tank length along x (rounded to whole spacings); the front must not "
+          "reach its far wall before the end", low=0.0, low_inclusive=False, high=100.0),
+    Param("geometry.wall_height", 0.15, "m", "Height of the tank's walls above the floor", low=0.0,
+          low_inclusive=False, high=100.0),
+    Param("geometry.span_layers", 6, "1", "Particle layers across the slab (y)", kind="int", low=1, high=10000),
+    Param("geometry.periodic_y", True, "", "Periodic along y (else side walls close the slab)", kind="bool"),
+    Param("geometry.wall_layers", 3, "1", "Layers of wall particles (their thickness must reach 2h)", kind="int",
+          low=1, high=20),
+]
+
+DEFAULTS = {"scene.end_time": 0.17, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": COLUMN_WIDTH / 20,
+            "output.timeseries_interval": 2.0e-3, "output.snapshot_interval": 0.02}
+
+
+def check(values):
+    dp = values["numerics.spacing"]
+    nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width", at_least=2)
+    tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height", at_least=2)
+    if values["geometry.tank_length"] < nx * dp + 2 * dp:
+        raise SceneError(f"geometry.tank_length = {values['geometry.tank_length']:g} m: not longer than the column; "
+                         f"allowed: at least {(nx + 2) * dp:g} m")
+    if values["geometry.wall_height"] < values["geometry.column_height"]:
+        raise SceneError(f"geometry.wall_height = {values['geometry.wall_height']:g} m: below the column; allowed: "
+                         f"at least geometry.column_height")
+    check_walls_and_span(values)
+
+
+def build(values):
+    dp = values["numerics.spacing"]
+    nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width")
+    nz = tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height")
+    ntank = int(round(values["geometry.tank_length"] / dp))
+    ny = values["geometry.span_layers"]
+    layers = values["geometry.wall_layers"]
+    periodic = values["geometry.periodic_y"]
+    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
+    rho0 = values["fluid.density"]
+    fluid = FluidState.at_rest(tank.lattice(nx, ny, nz, dp), rho0, dp)
+    walls = WallState.lattice(tank.tank_walls(ntank, ny, nz_wall, layers, dp, periodic), rho0, dp)
+    period, lo, hi = tank.period_and_box(ntank, ny, dp, layers, nz_wall * dp, periodic, margin=nz_wall * dp)
+    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period)
+
+
+def front_position(pos, spacing):
+    """The surge front: the foremost fluid particle's x plus dp/2 (its volume's edge)."""
+    return float(pos[:, 0].max()) + 0.5 * spacing
+
+
+def sample_fluid(sim):
+    """Time-series columns: front x [m], Z = x_front / a, T = t sqrt(2 g / a), particles outside the tank."""
+    v = sim.spec.values
+    a = v["geometry.column_width"]
+    g = abs(v["scene.gravity"][2])
+    dp = v["numerics.spacing"]
+    front = front_position(sim.fluid.pos, dp)
+    length = round(v["geometry.tank_length"] / dp) * dp
+    outside = tank.outside_tank(sim.fluid.pos, length, v["geometry.span_layers"] * dp, v["geometry.periodic_y"])
+    return {"front_x": front, "front_Z": front / a, "T": sim.time * math.sqrt(2.0 * g / a),
+            "outside_walls": int(outside.sum())}
+
+
+def evaluate(series, values):
+    """Z(T) interpolated at Martin & Moyce's T <= 3 (within the run): relative error per point and RMS."""
+    ref_t, ref_z = martin_moyce_front()
+    t_run = series["T"]
+    use = (ref_t <= min(EVALUATE_UP_TO_T, t_run[-1]))
+    z_sim = np.interp(ref_t[use], t_run, series["front_Z"])
+    rel = (z_sim - ref_z[use]) / ref_z[use]
+    points = [{"T": float(t), "Z_experiment": float(ze), "Z_simulated": float(zs), "relative_error": float(e)}
+              for t, ze, zs, e in zip(ref_t[use], ref_z[use], z_sim, rel)]
+    rms = float(np.sqrt(np.mean(rel ** 2))) if len(rel) else float("nan")
+    return {"front_points": points, "front_rms_relative_error": rms,
+            "front_max_relative_error": float(np.max(np.abs(rel))) if len(rel) else float("nan"),
+            "max_particles_outside_walls": int(series["outside_walls"].max()),
+            "iterations_mean": float(np.mean(series["iterations_mean"][1:])) if len(t_run) > 1 else 0.0,
+            "iterations_max": int(np.max(series["iterations_max"])),
+            "capped_steps": int(np.sum(series["capped_steps"])),
+            "error_metric": "RMS relative error of the surge front Z = x/a against Martin & Moyce 1952 "
+                            "(reference_data/martin_moyce_1952_a57mm.csv), T <= 3",
+            "error": rms}

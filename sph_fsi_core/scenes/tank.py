@@ -1,0 +1,65 @@
+"""Shared geometry of the fluid scenes: lattice blocks and the wall particles of an open-topped tank.
+
+Everything sits on one cubic lattice of spacing dp with sites at (i + 1/2) dp, so the fluid at rest and the walls
+continue each other's lattice and the summation density (1) of a fluid particle next to a wall is rho0, as in the
+bulk. The tank's inside is x in [0, length], z >= 0 and, across, y in [0, span]: periodic along y (a slab of
+`span` with no side walls) or closed by walls at y = 0 and y = span.
+"""
+import numpy as np
+
+from ..schema import SceneError
+
+
+def whole_layers(extent, spacing, key, at_least=1):
+    """Number of lattice layers in `extent`, or SceneError if it is not a whole number of spacings."""
+    n = extent / spacing
+    if abs(n - round(n)) > 1e-6 * max(n, 1.0):
+        raise SceneError(f"{key} = {extent:g} m is not a whole number of spacings (numerics.spacing = "
+                         f"{spacing:g} m); allowed: a multiple of the spacing")
+    n = int(round(n))
+    if n < at_least:
+        raise SceneError(f"numerics.spacing = {spacing:g} m is too coarse for {key} = {extent:g} m; allowed: at "
+                         f"most {extent / at_least:g} m ({at_least} particle layers)")
+    return n
+
+
+def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
+    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest (neighbours stay close in memory)."""
+    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
+
+def tank_walls(nx, ny, nz_wall, layers, spacing, periodic_y):
+    """Wall sites of a tank whose inside is nx x ny cells wide and nz_wall high, `layers` thick below and around.
+
+    Periodic in y: floor and end walls span the slab's ny sites only. Closed: side walls at y < 0 and y > span too.
+    """
+    pad_y = 0 if periodic_y else layers
+    i = np.arange(-layers, nx + layers)
+    j = np.arange(-pad_y, ny + pad_y)
+    k = np.arange(-layers, nz_wall)
+    ii, jj, kk = np.meshgrid(i, j, k, indexing="ij")
+    outside = (ii < 0) | (ii >= nx) | (kk < 0)
+    if not periodic_y:
+        outside |= (jj < 0) | (jj >= ny)
+    sites = np.stack([ii[outside], jj[outside], kk[outside]], axis=-1)
+    return (sites + 0.5) * spacing
+
+
+def period_and_box(nx, ny, spacing, layers, top, periodic_y, margin):
+    """(period, domain_lo, domain_hi): y periodic over the slab if asked; a box `margin` beyond the walls."""
+    span = ny * spacing
+    period = np.array([0.0, span if periodic_y else 0.0, 0.0])
+    lo = np.array([-(layers * spacing) - margin, 0.0 if periodic_y else -(layers * spacing) - margin,
+                   -(layers * spacing) - margin])
+    hi = np.array([nx * spacing + layers * spacing + margin, span if periodic_y else span + layers * spacing + margin,
+                   top + margin])
+    return period, lo, hi
+
+
+def outside_tank(pos, length, span, periodic_y):
+    """Mask of fluid particles that crossed a wall: below the floor, behind an end wall or (closed) a side wall."""
+    out = (pos[:, 2] < 0.0) | (pos[:, 0] < 0.0) | (pos[:, 0] > length)
+    if not periodic_y:
+        out |= (pos[:, 1] < 0.0) | (pos[:, 1] > span)
+    return out
