@@ -37,7 +37,7 @@ class _Progress:
         self.last = now
         elapsed = now - self.start
         frac = min(sim.time / self.end_time, 1.0)
-        rate = sim.solid_steps / elapsed if elapsed > 0 else 0.0
+        rate = (sim.solid_steps + sim.fluid_steps) / elapsed if elapsed > 0 else 0.0
         eta = elapsed * (1.0 - frac) / frac if frac > 0 else float("nan")
         sys.stderr.write(f"\r  t = {sim.time:.4f} / {self.end_time:g} s  {100 * frac:5.1f} %  "
                          f"{rate:,.0f} steps/s  ETA {eta:6.1f} s ")
@@ -62,14 +62,20 @@ def machine_info():
             "commit": _git_commit()}
 
 
-def write_snapshot(sim, path):
-    """Particle state of every phase the scene has, as compressed NumPy arrays."""
+def write_snapshot(sim, path, snapshot_index=0):
+    """Particle state of every phase the scene has, as compressed NumPy arrays (walls, fixed: first snapshot only)."""
     data = {"time": sim.time}
     if sim.solid is not None:
         s = sim.solid
         data.update(solid_position=s.pos, solid_velocity=s.vel, solid_density=s.rho, solid_pressure=s.pressure,
                     solid_stress_deviatoric=s.stress, solid_movable=s.movable,
                     stress_components=np.array(COMPONENT_NAMES))
+    if sim.fluid is not None:
+        f = sim.fluid
+        data.update(fluid_position=f.pos, fluid_velocity=f.vel, fluid_density=f.rho, fluid_pressure=f.pressure,
+                    fluid_correction_displacement=f.correction_displacement)
+    if sim.walls is not None and snapshot_index == 0:
+        data.update(wall_position=sim.walls.pos)
     np.savez_compressed(path, **data)
 
 
@@ -94,7 +100,7 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
     try:
         while sim.time < end - 1e-12:
             if out and snap_dt > 0 and sim.time >= next_snap - 1e-12:
-                write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz")
+                write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
                 snap_count += 1
                 next_snap += snap_dt
             sim.step()
@@ -109,21 +115,32 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
         progress.close()
     stepping_s = time.perf_counter() - t1
     if out and snap_dt > 0 and diverged is None:
-        write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz")
+        write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
         snap_count += 1
     series = {k: np.array([r[k] for r in rows]) for k in rows[0]}
     evaluation = {}
     if diverged is None and hasattr(sim.builder, "evaluate"):
         evaluation = sim.builder.evaluate(series, spec.values)
-    particle_steps = sim.particle_count * sim.solid_steps
+    solid_count = sim.solid.count if sim.solid is not None else 0
+    fluid_count = sim.fluid.count if sim.fluid is not None else 0
+    particle_steps = solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
+    fluid_particle_iterations = fluid_count * sim.fluid_iterations
+    fluid_builds = sim.fluid_solver.builds if sim.fluid_solver is not None else 0
     summary = {
         "scene": spec.name, "builder": spec.builder, "source": spec.source, "phases": list(sim.phases),
-        "particles": {"solid": sim.particle_count,
-                      "solid_moving": sim.solid.moving_count if sim.solid is not None else 0},
+        "particles": {"solid": solid_count,
+                      "solid_moving": sim.solid.moving_count if sim.solid is not None else 0,
+                      **sim.particle_counts},
         "end_time_s": end, "simulated_time_s": sim.time, "stable": diverged is None,
         "diverged": diverged.as_dict() if diverged else None, "warnings": sim.warnings,
         "solid_steps": sim.solid_steps, "outer_steps": sim.outer_steps, "solid_dt_s": sim.last_solid_dt,
-        "neighbour_builds": sim.neighbour_builds,
+        "neighbour_builds": sim.neighbour_builds + fluid_builds,
+        "fluid_steps": sim.fluid_steps, "fluid_dt_s": sim.last_fluid_dt,
+        "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
+        "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
+        "fluid_particle_iterations": fluid_particle_iterations,
+        "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s
+                                                 if stepping_s > 0 and fluid_count else None),
         "wall_time_s": setup_s + stepping_s, "setup_time_s": setup_s, "stepping_time_s": stepping_s,
         "particle_steps": particle_steps,
         "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,

@@ -85,7 +85,7 @@ def sample_fluid(sim):
     dp = v["numerics.spacing"]
     front = front_position(sim.fluid.pos, dp)
     length = round(v["geometry.tank_length"] / dp) * dp
-    outside = tank.outside_tank(sim.fluid.pos, length, v["geometry.span_layers"] * dp, v["geometry.periodic_y"])
+    outside = tank.outside_tank(sim.fluid.pos, length, v["geometry.span_layers"] * dp, v["geometry.periodic_y"], dp)
     return {"front_x": front, "front_Z": front / a, "T": sim.time * math.sqrt(2.0 * g / a),
             "outside_walls": int(outside.sum())}
 

@@ -104,7 +104,7 @@ def sample_fluid(sim):
     inner = (f.pos[:, 0] > 2.0 * sim.h) & (f.pos[:, 0] < width - 2.0 * sim.h)
     ref = rho0 * g * (depth - f.pos[inner, 2])
     rms = float(np.sqrt(np.mean((f.pressure[inner] - ref) ** 2))) / (rho0 * g * depth)
-    outside = tank.outside_tank(f.pos, width, v["geometry.span_layers"] * dp, v["geometry.periodic_y"])
+    outside = tank.outside_tank(f.pos, width, v["geometry.span_layers"] * dp, v["geometry.periodic_y"], dp)
     return {"floor_pressure": p_floor, "pressure_slope": slope,
             "bottom_layer_pressure": float(f.pressure[bottom].mean()), "floor_load_pressure": load,
             "pressure_profile_rms": rms, "outside_walls": int(outside.sum()), "fluid_mass": float(f.mass.sum())}

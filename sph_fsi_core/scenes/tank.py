@@ -57,9 +57,16 @@ def period_and_box(nx, ny, spacing, layers, top, periodic_y, margin):
     return period, lo, hi
 
 
-def outside_tank(pos, length, span, periodic_y):
-    """Mask of fluid particles that crossed a wall: below the floor, behind an end wall or (closed) a side wall."""
-    out = (pos[:, 2] < 0.0) | (pos[:, 0] < 0.0) | (pos[:, 0] > length)
+def outside_tank(pos, length, span, periodic_y, spacing):
+    """Mask of fluid particles that crossed a wall: whose centre is past the centres of the wall's first particle
+    layer (dp/2 beyond the wall's surface) below the floor, behind an end wall or (closed) a side wall.
+
+    Not the surface itself: a free-surface particle (the surge's tip) has a truncated kernel, so it reaches rho0,
+    and is pushed back, only a little closer to the wall than a particle in the bulk; tips dip about dp/4 below
+    the floor's surface line while staying above the wall particles.
+    """
+    m = 0.5 * spacing
+    out = (pos[:, 2] < -m) | (pos[:, 0] < -m) | (pos[:, 0] > length + m)
     if not periodic_y:
-        out |= (pos[:, 1] < 0.0) | (pos[:, 1] > span)
+        out |= (pos[:, 1] < -m) | (pos[:, 1] > span + m)
     return out
