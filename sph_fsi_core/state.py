@@ -65,10 +65,12 @@ class FluidState:
             self.correction_displacement = np.zeros((len(self.pos), 3))
 
     @classmethod
-    def at_rest(cls, pos, density, spacing):
+    def at_rest(cls, pos, density, spacing, mass_scale=1.0):
+        """At rest on a lattice of spacing dp: mass rho0 dp^3 times `mass_scale` (see scenes/tank.py)."""
         n = len(pos)
         return cls(pos=np.ascontiguousarray(pos, dtype=np.float64), vel=np.zeros((n, 3)),
-                   rho=np.full(n, float(density)), pressure=np.zeros(n), mass=np.full(n, float(density) * spacing ** 3))
+                   rho=np.full(n, float(density)), pressure=np.zeros(n),
+                   mass=np.full(n, float(density) * spacing ** 3 * mass_scale))
 
     @property
     def count(self):
@@ -83,9 +85,9 @@ class WallState:
     rho0: float              # kg/m^3, the density the wall stands for (the fluid's rest density)
 
     @classmethod
-    def lattice(cls, pos, density, spacing):
-        return cls(pos=np.ascontiguousarray(pos, dtype=np.float64), mass=np.full(len(pos), float(density) * spacing ** 3),
-                   rho0=float(density))
+    def lattice(cls, pos, density, spacing, mass_scale=1.0):
+        return cls(pos=np.ascontiguousarray(pos, dtype=np.float64),
+                   mass=np.full(len(pos), float(density) * spacing ** 3 * mass_scale), rho0=float(density))
 
     @property
     def count(self):

@@ -60,8 +60,26 @@ def _cantilever_rungs():
     return rungs
 
 
+def _fluid_rungs():
+    """Hydrostatic tank and Martin & Moyce dam break, each over a resolution ladder (fixed end times)."""
+    rungs = []
+    # Hydrostatic: 0.6 s, judged on the last 30 %; dp = 5 mm is CI's. The step is held at 2.5 mm: the iterations per
+    # step grow as (dt / dp)^2 (docs/method.md), so the finer tank takes a proportionally finer step.
+    for dp, quick, extra in ((0.005, True, {}), (0.0025, False, {"fluid.time_step": 0.0025})):
+        rungs.append(Rung("hydrostatic", f"dp_{dp * 1e3:g}mm", "hydrostatic", {"numerics.spacing": dp, **extra},
+                          end_time=0.6, quick=quick, bound=0.02,
+                          note=f"H / dp = {0.1 / dp:.0f}; floor pressure against rho g H"))
+    # Dam break to T = 3.15 at a / dp = 10, 20, 30.
+    a = 0.05715
+    for ratio, quick in ((10, True), (20, False), (30, False)):
+        rungs.append(Rung("dam_break", f"a_over_dp_{ratio}", "dam_break", {"numerics.spacing": a / ratio},
+                          end_time=0.17, quick=quick, bound=0.15,
+                          note=f"dp = {a / ratio * 1e3:.3f} mm; front vs Martin & Moyce, RMS over T <= 3"))
+    return rungs
+
+
 def all_rungs():
-    return _cantilever_rungs()
+    return _cantilever_rungs() + _fluid_rungs()
 
 
 def _rung_dir(out_dir, rung):

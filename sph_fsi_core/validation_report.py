@@ -24,9 +24,17 @@ def _row(rung, s):
     if s.get("frequency_hz") is not None:
         measured = f"{s['frequency_hz']:.3f} ± {s['frequency_uncertainty_hz']:.3f} Hz"
         ref = f"{s['reference_hz']:.3f} Hz ({s['fe3d_source']})"
+    elif s.get("floor_pressure_pa") is not None:
+        measured = f"floor p {s['floor_pressure_pa']:.1f} Pa"
+        ref = f"rho g H = {s['reference_floor_pressure_pa']:.1f} Pa"
+    elif s.get("front_rms_relative_error") is not None:
+        measured = f"front RMS {100 * s['front_rms_relative_error']:.1f} %"
+        ref = "Martin & Moyce 1952"
     err = f"{100 * s['error']:.2f} %" if s.get("error") is not None else "-"
+    moving = s["particles"].get("solid", 0) + s["particles"].get("fluid", 0)
+    steps = s["solid_steps"] + s.get("fluid_steps", 0)
     return (f"| {rung.case} | {rung.label} | {s['settings']['numerics.spacing'] * 1e3:.3g} | "
-            f"{s['particles']['solid']} | {s['solid_steps']} | {s['wall_time_s']:.1f} | "
+            f"{moving} | {steps} | {s['wall_time_s']:.1f} | "
             f"{_fmt(s['particle_steps_per_second'] / 1e6, '.3f')} | {measured} | {ref} | {err} | {stable} |")
 
 
@@ -52,6 +60,93 @@ def _cantilever_extra(rungs, summaries):
             "largest mean sideways speed of the free end after the first period, over Vf.", "",
             "| run | vs fe3d | vs beam | vs eq. (15) | damping ratio | energy growth / period | sideways / Vf | periods |",
             "|---|---|---|---|---|---|---|---|", *lines]
+
+
+def _fluid_extra(rungs, summaries):
+    lines = []
+    for r in rungs:
+        s = summaries.get(r.key)
+        if s is None or r.case not in ("hydrostatic", "dam_break") or not s.get("fluid_steps"):
+            continue
+        if r.case == "hydrostatic":
+            detail = (f"floor p (fit) {_fmt(100 * s['floor_pressure_error'], '+.2f')} %, bottom layer "
+                      f"{_fmt(100 * s['bottom_layer_error'], '+.2f')} %, floor load {_fmt(100 * s['floor_load_error'], '+.2f')} %, "
+                      f"profile RMS {_fmt(100 * s['pressure_profile_rms_over_rho_g_h'], '.2f')} %, "
+                      f"outside walls {s['max_particles_outside_walls']}, mass change {s['mass_change_kg']:g} kg")
+        else:
+            pts = ", ".join(f"T={p['T']:.2f}: {100 * p['relative_error']:+.1f} %" for p in s["front_points"])
+            detail = (f"{pts}; RMS {100 * s['front_rms_relative_error']:.1f} %; best delay dT = "
+                      f"{_fmt(s['front_time_shift_T'], '.3f')} leaves {_fmt(100 * s['front_rms_after_time_shift'], '.1f')} %; "
+                      f"speed dZ/dT {_fmt(s['front_speed_dZdT'], '.3f')} (experiment {_fmt(s['front_speed_dZdT_experiment'], '.3f')}); "
+                      f"outside walls {s['max_particles_outside_walls']}")
+        lines.append(f"| {r.key} | {s['particles'].get('fluid')} | {s['fluid_steps']} | "
+                     f"{_fmt(s.get('fluid_iterations_per_step'), '.1f')} | {s.get('iterations_max', '-')} | "
+                     f"{s.get('fluid_capped_steps', 0)} | {_fmt((s.get('fluid_particle_iterations_per_second') or 0) / 1e6, '.3f')} | "
+                     f"{s['wall_time_s']:.1f} | {detail} |")
+    if not lines:
+        return []
+    return ["", "### Fluid: iterations, throughput and errors", "",
+            "Iterations: density-correction iterations per fluid step (mean over the run, largest in any step); "
+            "capped: steps that reached fluid.max_iterations. M particle-iterations/s: fluid particles x iterations "
+            "over stepping time (whole steps, neighbour builds included).", "",
+            "| run | fluid particles | fluid steps | iterations / step | max | capped | M particle-iterations/s | "
+            "wall [s] | errors |", "|---|---|---|---|---|---|---|---|---|", *lines]
+
+
+def _fluid_plots(out_dir, rungs, summaries, plt):
+    made = []
+    runs = [r for r in rungs if r.case == "dam_break" and r.key in summaries]
+    if runs:
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.5, 7))
+        ref = read_reference_csv("martin_moyce_1952_a57mm.csv")
+        a1.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", label="Martin & Moyce 1952")
+        for r in runs:
+            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
+            if not path.is_file():
+                continue
+            rows = list(csv.DictReader(path.open()))
+            t = np.array([float(x["T"]) for x in rows])
+            a1.plot(t, [float(x["front_Z"]) for x in rows], label=r.label)
+            a2.plot([float(x["time"]) for x in rows], [float(x["iterations_mean"]) for x in rows], label=r.label)
+        a1.set_xlim(0, 3.5)
+        a1.set_ylim(0.9, 5)
+        a1.set_xlabel("T = t sqrt(2 g / a)")
+        a1.set_ylabel("Z = x_front / a")
+        a1.set_title("Dam break: surge front")
+        a2.set_xlabel("t [s]")
+        a2.set_ylabel("correction iterations per step (mean per output interval)")
+        for a in (a1, a2):
+            a.grid(True, alpha=0.3)
+            a.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(Path(out_dir) / "dam_break_front.png", dpi=120)
+        plt.close(fig)
+        made.append("dam_break_front.png")
+    runs = [r for r in rungs if r.case == "hydrostatic" and r.key in summaries]
+    if runs:
+        fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.5, 6), sharex=True)
+        for r in runs:
+            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
+            if not path.is_file():
+                continue
+            rows = list(csv.DictReader(path.open()))
+            t = [float(x["time"]) for x in rows]
+            ref = summaries[r.key]["reference_floor_pressure_pa"]
+            a1.plot(t, [float(x["floor_pressure"]) / ref for x in rows], label=r.label)
+            a2.plot(t, [float(x["iterations_mean"]) for x in rows], label=r.label)
+        a1.set_ylim(0.8, 1.2)
+        a1.set_ylabel("floor pressure / rho g H")
+        a1.set_title("Hydrostatic tank")
+        a2.set_ylabel("correction iterations per step")
+        a2.set_xlabel("t [s]")
+        for a in (a1, a2):
+            a.grid(True, alpha=0.3)
+            a.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(Path(out_dir) / "hydrostatic_pressure.png", dpi=120)
+        plt.close(fig)
+        made.append("hydrostatic_pressure.png")
+    return made
 
 
 def _plots(out_dir, rungs, summaries):
@@ -122,6 +217,7 @@ def _plots(out_dir, rungs, summaries):
             fig.savefig(Path(out_dir) / "cantilever_tip_and_energy.png", dpi=120)
             plt.close(fig)
             made.append("cantilever_tip_and_energy.png")
+    made += _fluid_plots(out_dir, rungs, summaries, plt)
     return made
 
 
@@ -139,7 +235,9 @@ def write_report(out_dir, rungs, summaries):
         f"{machine.get('python')}, Numba {machine.get('numba')}, NumPy {machine.get('numpy')}; commit "
         f"{machine.get('commit')}; report written {datetime.date.today().isoformat()}.", "",
         "Wall time includes setup (scene build, first force evaluation; Numba functions come from the on-disk "
-        "cache). Particle-steps/s counts every solid particle (clamp included) per solid step, over stepping "
+        "cache). Particles: the moving ones' phases plus the solid's clamp (not the fluid's walls); steps: solid + "
+        "fluid steps. Particle-steps/s counts every solid particle (clamp included) per solid step and every fluid "
+        "particle per fluid step, over stepping "
         "time only; a value well below the benchmark's (`docs/performance/BENCH.md`) means the run shared the "
         "2 cores with other work and its wall time is inflated by the same factor.", "",
         "| case | run | dp [mm] | particles | solid steps | wall [s] | M particle-steps/s | measured | reference | "
@@ -149,6 +247,7 @@ def write_report(out_dir, rungs, summaries):
     for r in rungs:
         lines.append(_row(r, summaries.get(r.key)))
     lines += _cantilever_extra(rungs, summaries)
+    lines += _fluid_extra(rungs, summaries)
     lines += ["", "## Plots", ""] + [f"![{p}]({p})" for p in plots]
     (out / "REPORT.md").write_text("\n".join(lines) + "\n")
     return out / "REPORT.md"

@@ -70,8 +70,9 @@ def build(values):
     periodic = values["geometry.periodic_y"]
     nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
     rho0 = values["fluid.density"]
-    fluid = FluidState.at_rest(tank.lattice(nx, ny, nz, dp), rho0, dp)
-    walls = WallState.lattice(tank.tank_walls(nx, ny, nz_wall, layers, dp, periodic), rho0, dp)
+    scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
+    fluid = FluidState.at_rest(tank.lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
+    walls = WallState.lattice(tank.tank_walls(nx, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
     period, lo, hi = tank.period_and_box(nx, ny, dp, layers, nz_wall * dp, periodic, margin=0.5 * nz_wall * dp)
     return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period)
 

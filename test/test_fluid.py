@@ -1,0 +1,187 @@
+"""The density-correction fluid (Okaji 2002; Satake et al. sec. 2.2): its passes and its step, on cases with known
+answers. Scene-level checks (hydrostatic pressure, dam-break front) are in test/validation/test_fluid_quick.py."""
+import math
+
+import numpy as np
+import pytest
+
+from sph_fsi_core.diagnostics import Diverged
+from sph_fsi_core.fluid_okaji import viscous_velocity
+from sph_fsi_core.fluid_stepper import FluidSolver
+from sph_fsi_core.kernels import cubic_spline_w
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.scenes import tank
+from sph_fsi_core.schema import SceneError
+from sph_fsi_core.simulation import Simulation
+from sph_fsi_core.state import FluidState
+
+DP = 1.0e-3
+RATIO = 1.3
+H = RATIO * DP
+
+
+def _periodic_block(n, scale=1.0, jitter=0.0, seed=0):
+    """An n^3 lattice, periodic on all axes (period n dp), mass rho0 dp^3 / lattice sum; positions scaled/jittered."""
+    pos = tank.lattice(n, n, n, DP) * scale
+    if jitter:
+        pos += np.random.default_rng(seed).normal(0.0, jitter * DP, pos.shape)
+    fluid = FluidState.at_rest(pos, 1000.0, DP, mass_scale=tank.lattice_density_scale(RATIO))
+    period = np.full(3, n * DP * scale)
+    return fluid, period
+
+
+def _solver(fluid, period, **settings):
+    s = FluidSolver(fluid, None, H, period, np.zeros(3), period, 0.1 * H)
+    cfg = dict(rho0=1000.0, nu=0.0, gravity=(0.0, 0.0, 0.0), tolerance=0.01, tolerance_on="max", coefficient=0.0,
+               kappa=1.0, min_iterations=0, max_iterations=200)
+    cfg.update(settings)
+    s.configure(**cfg)
+    return s
+
+
+def test_lattice_kernel_sum_brute_force():
+    # Independent sum over a large lattice: the M4 kernel is not a partition of unity on a cubic lattice.
+    r = np.arange(-4, 5)
+    g = np.stack(np.meshgrid(r, r, r, indexing="ij"), axis=-1).reshape(-1, 3) * DP
+    brute = sum(cubic_spline_w(float(np.sqrt((x * x).sum())), H) for x in g) * DP ** 3
+    assert tank.lattice_kernel_sum(RATIO) == pytest.approx(brute, rel=1e-13)
+    assert tank.lattice_kernel_sum(RATIO) == pytest.approx(0.99726, abs=1e-5)
+
+
+def test_summation_density_of_a_full_lattice_is_rho0():
+    fluid, period = _periodic_block(8)
+    s = _solver(fluid, period)
+    emax, emean = s.density()
+    assert np.all(np.abs(fluid.rho - 1000.0) < 1e-10 * 1000.0)
+    assert emax < 1e-12 and emean < 1e-12
+    # Each particle sees the same 1 + 2 x (lattice shell) neighbours within 2h + skin: the list is right too.
+    counts = np.diff(s.fluid_neighbours.start)
+    assert counts.min() == counts.max()
+
+
+def test_walls_continue_the_lattice():
+    """In a tank at rest, every fluid particle whose kernel is not cut by the free surface has rho0 exactly,
+    the ones next to the floor and the end walls included (walls: same lattice, same mass)."""
+    spec = load_scene("hydrostatic", ["numerics.spacing=0.005"])
+    sim = Simulation(spec)
+    f = sim.fluid
+    below_surface = f.pos[:, 2] < spec["geometry.depth"] - 2.0 * sim.h
+    near_walls = (f.pos[:, 2] < 2.0 * sim.h) | (f.pos[:, 0] < 2.0 * sim.h)
+    assert (below_surface & near_walls).sum() > 100
+    assert np.all(np.abs(f.rho[below_surface] - 1000.0) < 1e-10 * 1000.0)
+    # the free surface's kernel is cut: those densities are short of rho0, not compressed
+    assert f.rho[~below_surface].min() < 0.8 * 1000.0
+    assert sim.last_density_error < 1e-12
+
+
+def _free_block():
+    """A free 10^3 block (no walls, not periodic) squeezed by 1 % in each direction (3 % compression), jittered."""
+    fluid, _ = _periodic_block(10, scale=0.99, jitter=0.02)
+    return fluid, np.zeros(3)
+
+
+def test_correction_converges_on_a_compressed_block():
+    """A compressed free block at rest, no gravity: the iterations must drive the max compression below 1 %,
+    monotonically; the corrections are pair-symmetric, so the block's momentum (sum of m x correction
+    displacement) stays zero."""
+    fluid, period = _free_block()
+    s = _solver(fluid, period, min_iterations=1, max_iterations=1)
+    e0, _ = s.density()
+    assert e0 > 0.03
+    errors = []
+    for _ in range(15):
+        report = s.step(1e-3)
+        fluid.vel[:] = 0.0
+        errors.append(report.error_max)
+    # one correction per call: the error after k corrections shrinks every time
+    assert all(b < a for a, b in zip(errors, errors[1:]))
+    fluid2, period2 = _free_block()
+    s2 = _solver(fluid2, period2)
+    report = s2.step(1e-3)
+    assert not report.capped
+    assert report.error_max <= 0.01
+    assert 1 <= report.iterations <= 30
+    momentum = (fluid2.mass[:, None] * fluid2.correction_displacement).sum(axis=0)
+    scale = (fluid2.mass[:, None] * np.abs(fluid2.correction_displacement)).sum()
+    assert np.all(np.abs(momentum) < 1e-12 * scale)
+
+
+def test_iteration_cap_is_counted_and_reported():
+    spec = load_scene("dam_break", ["numerics.spacing=0.005715", "fluid.max_iterations=1",
+                                    "fluid.density_tolerance=1e-5"])
+    sim = Simulation(spec)
+    for _ in range(5):
+        sim.step()
+    assert sim.fluid_capped_steps > 0
+    assert sim.sample()["capped_steps"] > 0
+    assert any("fluid.max_iterations = 1" in w for w in sim.warnings)
+
+
+def test_mass_conserved_and_no_wall_crossing_in_a_dam_break():
+    spec = load_scene("dam_break", ["numerics.spacing=0.005715", "scene.end_time=0.08"])
+    sim = Simulation(spec)
+    n0, m0 = sim.fluid.count, sim.fluid.mass.copy()
+    while sim.time < 0.08 - 1e-12:
+        sim.step()
+        assert sim.sample()["outside_walls"] == 0
+    assert sim.fluid.count == n0
+    assert np.array_equal(sim.fluid.mass, m0)
+    dp = spec["numerics.spacing"]
+    assert sim.fluid.pos[:, 2].min() > -0.5 * dp and sim.fluid.pos[:, 0].min() > -0.5 * dp
+    # the column has moved: the front is past its initial x = a
+    assert sim.sample()["front_Z"] > 1.2
+
+
+def test_phases_build_only_what_the_scene_has():
+    fluid_only = Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005"]))
+    assert fluid_only.solid is None
+    assert fluid_only.fluid is not None and fluid_only.walls is not None
+    assert not hasattr(fluid_only, "solid_work") and not hasattr(fluid_only, "solid_neighbours")
+    assert "solid_dt" not in fluid_only.sample() and "strain_energy" not in fluid_only.energies()
+    solid_only = Simulation(load_scene("cantilever"))
+    assert solid_only.fluid is None and solid_only.walls is None and solid_only.fluid_solver is None
+    assert "fluid_dt" not in solid_only.sample() and "fluid_kinetic_energy" not in solid_only.energies()
+
+
+def test_forced_time_step_above_the_limit_is_refused():
+    sim = Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005"]))
+    limit = sim.stable_fluid_dt()
+    with pytest.raises(SceneError, match="fluid.time_step"):
+        sim.check({"fluid.time_step": 2.0 * limit})
+    with pytest.raises(SceneError, match="fluid.time_step"):
+        Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005", f"fluid.time_step={2.0 * limit}"]))
+    assert sim.apply({"fluid.time_step": 0.5 * limit}) == []
+    sim.step()
+    assert sim.last_fluid_dt <= 0.5 * limit * (1 + 1e-12)
+
+
+def test_watchdog_names_the_fluid_particle():
+    sim = Simulation(load_scene("dam_break", ["numerics.spacing=0.005715"]))
+    sim.fluid.vel[17, 0] = 1.0e3
+    with pytest.raises(Diverged) as info:
+        sim.watchdog.check()
+    assert info.value.check == "speed" and info.value.phase == "fluid"
+    assert info.value.particles[0] == 17 and "fluid particle 17" in str(info.value)
+
+
+def test_viscous_term_decays_a_shear_wave_at_nu_k2():
+    """v_x = U sin(k z) on a periodic lattice: one step of eq. (9) (Morris form) changes it by -nu k^2 dt v."""
+    n = 24
+    fluid, period = _periodic_block(n)
+    k = 2.0 * math.pi / (n * DP)
+    fluid.vel[:, 0] = 0.01 * np.sin(k * fluid.pos[:, 2])
+    s = _solver(fluid, period)
+    s.density()
+    nu, dt = 1.0e-4, 1.0e-4
+    out = np.zeros_like(fluid.vel)
+    nb = s.fluid_neighbours
+    viscous_velocity(fluid.pos, fluid.vel, fluid.mass, fluid.rho, nb.start, nb.index, s.f_fluid, period, H, nu, dt,
+                     out)
+    change = out[:, 0] - fluid.vel[:, 0]
+    expected = -nu * k * k * dt * fluid.vel[:, 0]
+    big = np.abs(expected) > 0.5 * np.abs(expected).max()
+    ratio = change[big] / expected[big]
+    assert np.all(np.abs(ratio - 1.0) < 0.05), (ratio.min(), ratio.max())
+    assert np.abs(out[:, 1:]).max() < 1e-15
+    # momentum conserved pair by pair
+    assert abs((fluid.mass * change).sum()) < 1e-12 * (fluid.mass * np.abs(change)).sum()
