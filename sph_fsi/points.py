@@ -40,23 +40,17 @@ def _movable(state):
     return np.ones(len(state.pos), bool) if m is None else np.asarray(m, bool)
 
 
-def moving_particles(sim, stress=False):
-    """Per phase the scene has, its moving particles: [(phase code, pos, vel, pressure, von Mises)].
-
-    With stress=True the last item is the solid's deviatoric stress (M, 6) instead of its von Mises value
-    (a copy, for a recorder that computes von Mises off the simulation thread); for the fluid it is None.
-    """
+def moving_particles(sim):
+    """Per phase the scene has, its moving particles: [(phase code, pos, vel, pressure, von Mises)]."""
     parts = []
     fluid = getattr(sim, "fluid", None)
     if fluid is not None:
         m = _movable(fluid)
-        parts.append((PHASE_FLUID, fluid.pos[m], fluid.vel[m], fluid.pressure[m],
-                      None if stress else np.zeros(int(m.sum()))))
+        parts.append((PHASE_FLUID, fluid.pos[m], fluid.vel[m], fluid.pressure[m], np.zeros(int(m.sum()))))
     solid = getattr(sim, "solid", None)
     if solid is not None:
         m = solid.movable
-        parts.append((PHASE_SOLID, solid.pos[m], solid.vel[m], solid.pressure[m],
-                      solid.stress[m] if stress else von_mises(solid.stress[m])))
+        parts.append((PHASE_SOLID, solid.pos[m], solid.vel[m], solid.pressure[m], von_mises(solid.stress[m])))
     return parts
 
 

@@ -13,7 +13,6 @@ from mcap.writer import CompressionType
 from mcap_ros2.writer import Writer
 
 from sph_fsi.points import WALL_DTYPE, pack_particles
-from sph_fsi_core.tensors import von_mises
 
 from .frame import Frame, Static
 from .msgdefs import msgdef_text
@@ -114,9 +113,7 @@ class McapSink:
                 self._put("walls", cloud_dict(pts, stamp, self.frame_id), ns)
             return
         if isinstance(item, Frame):
-            parts = [(code, pos, vel, p, von_mises(s) if s is not None else np.zeros(len(pos)))
-                     for code, pos, vel, p, s in item.parts]
-            self._put("particles", cloud_dict(pack_particles(parts), stamp, self.frame_id), ns)
+            self._put("particles", cloud_dict(pack_particles(item.parts), stamp, self.frame_id), ns)
             tip = item.probes.get("tip")
             if tip is not None:
                 self._put("tip_displacement", {"header": header, "vector": {"x": tip[0], "y": tip[1],

@@ -22,7 +22,6 @@ import uuid
 import numpy as np
 
 from sph_fsi.points import PHASE_FLUID, PHASE_SOLID
-from sph_fsi_core.tensors import von_mises
 
 from .frame import Final, Frame, Static
 
@@ -102,9 +101,9 @@ class RerunSink:
             rec.log("status", rr.TextLog(f"{item.status} at t = {item.time:.6g} s", level=level))
             return
         assert isinstance(item, Frame)
-        for code, pos, _vel, pressure, stress in item.parts:
+        for code, pos, _vel, pressure, vm in item.parts:
             name = _PHASES[code][0]
-            values = von_mises(stress) if code == PHASE_SOLID else pressure
+            values = vm if code == PHASE_SOLID else pressure
             low, high = self._ranges[code].update(values)
             lut = self._luts[code]
             scale = (len(lut) - 1) / (high - low) if high > low else 0.0
