@@ -6,7 +6,7 @@ from pathlib import Path
 
 from sph_fsi_core.run import machine_info
 
-from . import solid_throughput
+from . import fluid_throughput, solid_throughput
 
 
 def main(argv=None):
@@ -15,6 +15,7 @@ def main(argv=None):
     parser.add_argument("--seconds", type=float, default=10.0, help="minimum measuring time per size")
     args = parser.parse_args(argv)
     solid = solid_throughput.main(["--seconds", str(args.seconds)])
+    fluid = fluid_throughput.main(["--seconds", str(args.seconds)])
     m = machine_info()
     lines = ["# Benchmarks", "",
              "Made by `make bench` (`python -m bench.run_all`).", "",
@@ -27,6 +28,19 @@ def main(argv=None):
     for r in solid:
         lines.append(f"| {r['particles']} | {r['pairs_per_particle']} | {r['steps']} | {r['seconds']} | "
                      f"{r['particle_steps_per_second'] / 1e6:.3f} |")
+    lines += ["", "## Fluid (Okaji density correction), particle-iterations per second", "",
+              "Two scenes scaled by their periodic slab's thickness: the dam break (a few correction iterations per "
+              "step, so neighbour-list rebuilds weigh in) and the hydrostatic tank at a fixed step (tens of "
+              "iterations per step). A particle-iteration is one fluid particle through one correction iteration "
+              "(density, pressure, wall pressure, position correction); the time is that of whole steps "
+              "(rebuilds, viscosity, watchdog included). Load: the machine's 1-minute load average during the run "
+              "(2 cores; above 2 means the run shared them).", "",
+              "| case | fluid particles | pairs per particle | steps | iterations / step | seconds | "
+              "M particle-iterations/s | M particle-steps/s | threads | load |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in fluid:
+        lines.append(f"| {r['case']} | {r['fluid_particles']} | {r['pairs_per_particle']} | {r['steps']} | "
+                     f"{r['iterations_per_step']} | {r['seconds']} | {r['particle_iterations_per_second'] / 1e6:.3f} | "
+                     f"{r['particle_steps_per_second'] / 1e6:.3f} | {r['threads']} | {r['load_average']:.1f} |")
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(lines) + "\n")

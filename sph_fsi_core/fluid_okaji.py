@@ -30,7 +30,18 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
-from .neighbours import minimum_image
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _image(d, period, half_period):
+    """Minimum image along one axis without a division: the lists guarantee period >= 2 cutoff and positions are
+    wrapped every step, so one shift by the period is always enough (period <= 0: not periodic)."""
+    if period > 0.0:
+        if d > half_period:
+            return d - period
+        if d < -half_period:
+            return d + period
+    return d
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
@@ -43,24 +54,34 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
     """
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
+    support2 = 4.0 * h * h
     px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
     for a in prange(pos.shape[0]):
         xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
         s = 0.0
         for k in range(fstart[a], fstart[a + 1]):
             b = findex[k]
-            dx = minimum_image(xa - pos[b, 0], px)
-            dy = minimum_image(ya - pos[b, 1], py)
-            dz = minimum_image(za - pos[b, 2], pz)
-            w, f = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+            dx = _image(xa - pos[b, 0], px, hx)
+            dy = _image(ya - pos[b, 1], py, hy)
+            dz = _image(za - pos[b, 2], pz, hz)
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:      # in the list's skin: no contribution
+                f_fluid[k] = 0.0
+                continue
+            w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
             s += mass[b] * w
             f_fluid[k] = f
         for k in range(wstart[a], wstart[a + 1]):
             b = windex[k]
-            dx = minimum_image(xa - wall_pos[b, 0], px)
-            dy = minimum_image(ya - wall_pos[b, 1], py)
-            dz = minimum_image(za - wall_pos[b, 2], pz)
-            w, f = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+            dx = _image(xa - wall_pos[b, 0], px, hx)
+            dy = _image(ya - wall_pos[b, 1], py, hy)
+            dz = _image(za - wall_pos[b, 2], pz, hz)
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:
+                f_wall[k] = 0.0
+                continue
+            w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
             s += wall_mass[b] * w
             f_wall[k] = f
         rho[a] = s
@@ -102,14 +123,15 @@ def wall_pressure(wall_pos, pos, p, wfstart, wfindex, period, h, rho0, wall_p_ov
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
     px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
     for w in prange(wall_pos.shape[0]):
         num = 0.0
         den = 0.0
         for k in range(wfstart[w], wfstart[w + 1]):
             f = wfindex[k]
-            dx = minimum_image(wall_pos[w, 0] - pos[f, 0], px)
-            dy = minimum_image(wall_pos[w, 1] - pos[f, 1], py)
-            dz = minimum_image(wall_pos[w, 2] - pos[f, 2], pz)
+            dx = _image(wall_pos[w, 0] - pos[f, 0], px, hx)
+            dy = _image(wall_pos[w, 1] - pos[f, 1], py, hy)
+            dz = _image(wall_pos[w, 2] - pos[f, 2], pz, hz)
             kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
             num += p[f] * kern
             den += kern
@@ -127,6 +149,7 @@ def pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_
     positions. Writes `disp` only (Jacobi: every particle sees its neighbours where they were).
     """
     px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
     for a in prange(pos.shape[0]):
         xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
         qa = p_over_rho2[a]
@@ -137,16 +160,16 @@ def pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_
             b = findex[k]
             c = mass[b] * (qa + p_over_rho2[b]) * f_fluid[k]
             if c != 0.0:
-                ax += c * minimum_image(xa - pos[b, 0], px)
-                ay += c * minimum_image(ya - pos[b, 1], py)
-                az += c * minimum_image(za - pos[b, 2], pz)
+                ax += c * _image(xa - pos[b, 0], px, hx)
+                ay += c * _image(ya - pos[b, 1], py, hy)
+                az += c * _image(za - pos[b, 2], pz, hz)
         for k in range(wstart[a], wstart[a + 1]):
             b = windex[k]
             c = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
             if c != 0.0:
-                ax += c * minimum_image(xa - wall_pos[b, 0], px)
-                ay += c * minimum_image(ya - wall_pos[b, 1], py)
-                az += c * minimum_image(za - wall_pos[b, 2], pz)
+                ax += c * _image(xa - wall_pos[b, 0], px, hx)
+                ay += c * _image(ya - wall_pos[b, 1], py, hy)
+                az += c * _image(za - wall_pos[b, 2], pz, hz)
         disp[a, 0] = -dt2 * ax
         disp[a, 1] = -dt2 * ay
         disp[a, 2] = -dt2 * az
@@ -183,6 +206,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
     """
     eta2 = 0.01 * h * h
     px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
     for a in prange(pos.shape[0]):
         xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
         mua = rho[a] * nu
@@ -191,11 +215,11 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
         sz = 0.0
         for k in range(fstart[a], fstart[a + 1]):
             b = findex[k]
-            if b == a:
+            if b == a or f_fluid[k] == 0.0:
                 continue
-            dx = minimum_image(xa - pos[b, 0], px)
-            dy = minimum_image(ya - pos[b, 1], py)
-            dz = minimum_image(za - pos[b, 2], pz)
+            dx = _image(xa - pos[b, 0], px, hx)
+            dy = _image(ya - pos[b, 1], py, hy)
+            dz = _image(za - pos[b, 2], pz, hz)
             r2 = dx * dx + dy * dy + dz * dz
             c = mass[b] * (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
             sx += c * (vel[a, 0] - vel[b, 0])
