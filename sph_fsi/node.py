@@ -190,6 +190,11 @@ _ROS_TYPES = {"float": ParameterType.PARAMETER_DOUBLE, "int": ParameterType.PARA
               "vec3": ParameterType.PARAMETER_DOUBLE_ARRAY}
 
 
+def _steps(sim):
+    """Solid plus fluid steps taken so far (the diagnostics' steps/s)."""
+    return getattr(sim, "solid_steps", 0) + getattr(sim, "fluid_steps", 0)
+
+
 def descriptor_for(p, rebuild_note=True):
     """ParameterDescriptor for a schema Param: description with unit and range, ROS range where bounded.
 
@@ -713,7 +718,7 @@ class SphFsiNode(Node):
         end = self._end_time()
         tol = 1e-6 * self._outer_dt
         if self._rate_mark is None:
-            self._rate_mark = (time.monotonic(), sim.solid_steps)
+            self._rate_mark = (time.monotonic(), _steps(sim))
         done = 0
         while done < n and sim.time < end - tol:
             if interruptible and self._interrupted():
@@ -729,8 +734,8 @@ class SphFsiNode(Node):
             self._take_applies()
         now = time.monotonic()
         if now > self._rate_mark[0]:
-            self._rate = (sim.solid_steps - self._rate_mark[1]) / (now - self._rate_mark[0])
-        self._rate_mark = (now, sim.solid_steps)
+            self._rate = (_steps(sim) - self._rate_mark[1]) / (now - self._rate_mark[0])
+        self._rate_mark = (now, _steps(sim))
         reached_end = sim.time >= end - tol
         with self._cv:
             self._sim_time = sim.time
@@ -820,9 +825,10 @@ class SphFsiNode(Node):
                   "moving_particles": str(sum(len(p[1]) for p in moving_particles(sim))),
                   "solid_steps": str(getattr(sim, "solid_steps", 0)),
                   "solid_dt": f"{getattr(sim, 'last_solid_dt', 0.0):.6g}"}
-        for attr, key in (("last_density_iterations", "iterations"), ("last_density_error", "density_error")):
-            if hasattr(sim, attr):   # phases with a density correction (fluid)
-                values[key] = f"{getattr(sim, attr):.6g}"
+        if getattr(sim, "fluid", None) is not None:   # the density correction's last step
+            values.update(iterations=f"{sim.last_density_iterations:d}",
+                          density_error=f"{sim.last_density_error:.6g}", fluid_steps=str(sim.fluid_steps),
+                          fluid_dt=f"{sim.last_fluid_dt:.6g}", capped_steps=str(sim.fluid_capped_steps))
         with self._cv:
             pending = sorted(self._pending_keys | ({"scene"} if self._pending_scene is not None else set())
                              | ({"qos"} if self._pending_qos is not None else set()) | set(self._pending_recording))
