@@ -45,12 +45,14 @@ def _image(d, period, half_period):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho, f_fluid,
-                      f_wall):
-    """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions.
+def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho, p,
+                      p_over_rho2, f_fluid, f_wall):
+    """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions; then, per particle,
+    eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0), and p_a / rho_a^2 for eq. (2).
 
     Also caches F_ab = (dW/dr)/r per pair (`f_fluid`, `f_wall`, aligned with the lists' `index`), for the
-    pressure-gradient and viscous passes at the same positions.
+    pressure-gradient and viscous passes at the same positions. (Eq. (7) rides along because it needs only the
+    particle's own density: one parallel region less per iteration.)
     """
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
@@ -85,6 +87,9 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
             s += wall_mass[b] * w
             f_wall[k] = f
         rho[a] = s
+        pa = c2 * max(s - rho0, 0.0)
+        p[a] = pa
+        p_over_rho2[a] = pa / (s * s)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy")
@@ -106,28 +111,20 @@ def compression_error(rho, rho0):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def correction_pressure(rho, rho0, c2, p, p_over_rho2, accumulated):
-    """Eq. (7) with p0 = 0 and no tension: p_a = c^2 max(rho_a - rho0, 0); also p_a / rho_a^2 for eq. (2), and
-    the step's pressure sum `accumulated` += p_a (the pressure output, module docstring)."""
-    for a in prange(rho.shape[0]):
-        pa = c2 * max(rho[a] - rho0, 0.0)
-        p[a] = pa
-        p_over_rho2[a] = pa / (rho[a] * rho[a])
-        accumulated[a] += pa
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def wall_pressure(wall_pos, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2):
+def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2):
     """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
-    (0 without any), stored as p_w / rho0^2. Only wall particles with fluid neighbours cost anything."""
+    (0 without any), stored as p_w / rho0^2, for the `active` wall particles (those within reach of the water;
+    row i of the wall->fluid list belongs to wall particle active[i]). The others have no fluid neighbour and
+    keep p_w = 0, at no cost."""
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
     px, py, pz = period[0], period[1], period[2]
     hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
-    for w in prange(wall_pos.shape[0]):
+    for i in prange(active.shape[0]):
+        w = active[i]
         num = 0.0
         den = 0.0
-        for k in range(wfstart[w], wfstart[w + 1]):
+        for k in range(wfstart[i], wfstart[i + 1]):
             f = wfindex[k]
             dx = _image(wall_pos[w, 0] - pos[f, 0], px, hx)
             dy = _image(wall_pos[w, 1] - pos[f, 1], py, hy)
@@ -139,14 +136,15 @@ def wall_pressure(wall_pos, pos, p, wfstart, wfindex, period, h, rho0, wall_p_ov
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
-                          wstart, windex, f_wall, period, dt2, disp):
+def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
+                          wstart, windex, f_wall, period, dt2, disp, accumulated):
     """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
 
         dv_a/dt = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab,    grad_a W_ab = F_ab (r_a - r_b),
 
     wall neighbours with their extrapolated pressure (module docstring). F_ab from the density pass at the same
-    positions. Writes `disp` only (Jacobi: every particle sees its neighbours where they were).
+    positions. Writes `disp` only (Jacobi: every particle sees its neighbours where they were), and adds this
+    iteration's p_a to the step's pressure sum `accumulated` (the pressure output, module docstring).
     """
     px, py, pz = period[0], period[1], period[2]
     hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
@@ -173,15 +171,21 @@ def pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_
         disp[a, 0] = -dt2 * ax
         disp[a, 1] = -dt2 * ay
         disp[a, 2] = -dt2 * az
+        accumulated[a] += p[a]
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def apply_displacement(pos, disp, total):
-    """pos += disp; total += disp (the step's correction displacement r(t+dt) - r*)."""
+def apply_displacement(pos, disp, total, pos_at_build, moved2):
+    """pos += disp; total += disp (the step's correction displacement r(t+dt) - r*); moved2 = squared distance
+    from where the neighbour lists were built (the skin test, in the same pass)."""
     for a in prange(pos.shape[0]):
+        d2 = 0.0
         for k in range(3):
             pos[a, k] += disp[a, k]
             total[a, k] += disp[a, k]
+            e = pos[a, k] - pos_at_build[a, k]
+            d2 += e * e
+        moved2[a] = d2
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)

@@ -28,11 +28,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .fluid_okaji import (apply_displacement, compression_error, correction_pressure, gravity_and_predictor,
+from .fluid_okaji import (apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, wall_pressure, velocity_from_displacement, viscous_velocity,
                           wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
-from .neighbours import NeighbourList, max_displacement
+from .neighbours import NeighbourList
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
 
@@ -49,32 +49,41 @@ class StepReport(NamedTuple):
 
 @njit(cache=True, fastmath=False, error_model="numpy")
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
-                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, wfstart, wfindex, period, h, rho0, c2, dt2,
-                    tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total):
-    """The density-correction iterations of one step, from iteration `it_start`.
+                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0, c2, dt2,
+                    tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total, moved2):
+    """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
     Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
     has moved more than half the skin since the lists were built (the caller rebuilds and calls again).
+    Four parallel passes per iteration: density with (7), wall pressure, position correction, apply.
     """
     it = it_start
     while True:
-        if max_displacement(pos, pos_at_build) > half_skin:
-            return it, -1.0, -1.0, NEEDS_REBUILD
-        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho, f_fluid,
-                          f_wall)
+        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho,
+                          p, p_over_rho2, f_fluid, f_wall)
         emax, emean = compression_error(rho, rho0)
         err = emean if on_mean else emax
         if it >= min_iterations and err <= tolerance:
             return it, emax, emean, CONVERGED
         if it >= max_iterations:
             return it, emax, emean, CAPPED
-        correction_pressure(rho, rho0, c2, p, p_over_rho2, accumulated)
         if wall_pos.shape[0] > 0:
-            wall_pressure(wall_pos, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2)
-        pressure_displacement(pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
-                              wall_p_over_rho2, wstart, windex, f_wall, period, dt2, disp)
-        apply_displacement(pos, disp, total)
+            wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2)
+        pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
+                              wall_p_over_rho2, wstart, windex, f_wall, period, dt2, disp, accumulated)
+        apply_displacement(pos, disp, total, pos_at_build, moved2)
         it += 1
+        if _largest(moved2) > half_skin * half_skin:
+            return it, -1.0, -1.0, NEEDS_REBUILD
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def _largest(x):
+    m = 0.0
+    for i in range(x.shape[0]):
+        if x[i] > m:
+            m = x[i]
+    return m
 
 
 class FluidSolver:
@@ -95,6 +104,7 @@ class FluidSolver:
         self.wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         self.wall_mass = walls.mass if walls is not None else np.zeros(0)
         self.wall_p_over_rho2 = np.zeros(len(self.wall_mass))
+        self.active_walls = np.zeros(0, dtype=np.int64)
         self._no_walls_start = np.zeros(n + 1, dtype=np.int64)
         self._no_walls_index = np.zeros(0, dtype=np.int32)
         self.pos_old = np.zeros((n, 3))
@@ -102,6 +112,7 @@ class FluidSolver:
         self.p = np.zeros(n)
         self.p_over_rho2 = np.zeros(n)
         self.vel_work = np.zeros((n, 3))
+        self.moved2 = np.zeros(n)
         self.f_fluid = np.zeros(0)
         self.f_wall = np.zeros(0)
         self.builds = 0
@@ -135,7 +146,17 @@ class FluidSolver:
             self.f_fluid = np.zeros(int(1.25 * self.fluid_neighbours.pairs) + 16)
         if self.walls is not None:
             self.wall_neighbours.build(pos, self.wall_pos)
-            self.wall_fluid_neighbours.build(self.wall_pos, pos)
+            # Only wall particles within the cutoff of the water's bounding box can have fluid neighbours; the
+            # others would be clamped into the grid's edge cells and scan them for nothing.
+            reach = self.wall_fluid_neighbours.cutoff
+            lo, hi = pos.min(axis=0) - reach, pos.max(axis=0) + reach
+            for k in range(3):
+                if self.period[k] > 0.0:
+                    lo[k], hi[k] = -np.inf, np.inf
+            near = ((self.wall_pos >= lo) & (self.wall_pos <= hi)).all(axis=1)
+            self.active_walls = np.flatnonzero(near)
+            self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos)
+            self.wall_p_over_rho2[:] = 0.0
             if len(self.f_wall) < self.wall_neighbours.pairs:
                 self.f_wall = np.zeros(int(1.25 * self.wall_neighbours.pairs) + 16)
         self.builds += 1
@@ -152,7 +173,8 @@ class FluidSolver:
         fl, nb = self.fluid, self.fluid_neighbours
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
-                          self.period, self.h, fl.rho, self.f_fluid, self.f_wall)
+                          self.period, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2, self.f_fluid,
+                          self.f_wall)
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
@@ -192,10 +214,10 @@ class FluidSolver:
             wstart, windex, wfstart, wfindex = self._wall_rows()
             it, emax, emean, status = correction_loop(
                 it, fl.pos, fl.mass, fl.rho, self.p, self.p_over_rho2, fl.pressure, nb.start, nb.index, self.f_fluid,
-                self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, wfstart, wfindex,
-                self.period, self.h, self.rho0, c * c,
-                dt * dt, self.tolerance, self.on_mean, self.min_iterations, self.max_iterations,
-                nb._targets_at_build, 0.5 * self.skin, self.disp, fl.correction_displacement)
+                self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
+                wfstart, wfindex, self.period, self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean,
+                self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
+                fl.correction_displacement, self.moved2)
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it

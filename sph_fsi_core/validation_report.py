@@ -114,7 +114,7 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
         a1.set_ylabel("Z = x_front / a")
         a1.set_title("Dam break: surge front")
         a2.set_xlabel("t [s]")
-        a2.set_ylabel("correction iterations per step (mean per output interval)")
+        a2.set_ylabel("iterations per step")
         for a in (a1, a2):
             a.grid(True, alpha=0.3)
             a.legend(fontsize=8)
