@@ -101,3 +101,13 @@ def martin_moyce_front():
     import numpy as np
     rows = read_reference_csv("martin_moyce_1952_a57mm.csv")
     return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])
+
+
+def antoci_gate_tip(component):
+    """(t [s], displacement [m]) of the gate's free end measured by Antoci, Gallati & Sibilla 2007
+    (reference_data/antoci2007_exp_gate_tip_x.csv for 'x'; _y.csv, their vertical, for 'z'); digitised, not
+    zero-shifted."""
+    import numpy as np
+    name, col = {"x": ("antoci2007_exp_gate_tip_x.csv", "x_m"), "z": ("antoci2007_exp_gate_tip_y.csv", "y_m")}[component]
+    rows = read_reference_csv(name)
+    return np.array([r["time_s"] for r in rows]), np.array([r[col] for r in rows])

@@ -181,7 +181,23 @@ FLUID = [
        low_inclusive=False, high=10.0, rebuild=False),
 ]
 
-SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID, "fluid": FLUID}
+# Fluid-structure coupling (Satake et al. sec. 2.3; coupling.py). Only scenes with both a solid and a fluid.
+COUPLING = [
+    _p("coupling.model", "seed", "",
+       "Fluid's push on the solid: 'seed' the paper's eqs. (10)-(11) (correction displacement, projected on "
+       "surface normals, times gamma); 'pressure' equal and opposite pressure pair forces (momentum-conserving)",
+       kind="str", choices=("seed", "pressure"), rebuild=False),
+    _p("coupling.gamma", 10.0, "1", "Factor gamma of eq. (11), 'seed' model (the paper: 10)", low=0.0, high=1.0e4,
+       rebuild=False),
+    _p("coupling.substeps", 0, "1",
+       "Solid sub-steps per fluid step (0: ceil(fluid dt / stable solid dt); a forced value below that is "
+       "replaced by it with a warning); the paper: 200", kind="int", low=0, high=100000, rebuild=False),
+    _p("coupling.surface_threshold", 0.4, "1",
+       "A solid particle is a surface particle when |sum_b V_b grad W_ab| h exceeds this (about 0.8 at a flat "
+       "face, 0 inside)", low=0.0, low_inclusive=False, high=2.0),
+]
+
+SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID, "fluid": FLUID, "coupling": COUPLING}
 # Phases a scene may have; a scene whose builder lacks one refuses its section by name.
 PHASE_NAMES = ("solid", "fluid", "walls", "coupling")
 

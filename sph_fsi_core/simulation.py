@@ -12,6 +12,7 @@ import time as _time
 
 import numpy as np
 
+from .coupling import Coupling
 from .diagnostics import Diverged, Watchdog, kinetic_energy
 from .fluid_stepper import FluidSolver
 from .neighbours import NeighbourList, pair_kernel_values
@@ -20,6 +21,7 @@ from .scenes import BUILDERS
 from .solid_gray2001 import material_constants, strain_energy
 from .solid_stepper import SolidWork, make_params, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
+from .scenes.tank import lattice_density_scale
 
 __all__ = ["Simulation", "Diverged"]
 
@@ -74,9 +76,20 @@ class Simulation:
         self.last_density_error_mean = 0.0
         self._interval_stats = {}
         self._fluid_dt_clamped = False
+        self.coupling = None   # only with both a solid and a fluid (coupling.py)
         if self.fluid is not None:
             self._fluid_initial_positions = self.fluid.pos.copy()
-            self.fluid_solver = FluidSolver(self.fluid, self.walls, self.h, self.period, built.domain_lo,
+            fluid_walls = self.walls
+            if self.solid is not None:
+                self.coupling = Coupling(self.solid, self.fluid, self.walls, self.h, self.period,
+                                         v["fluid.density"], lattice_density_scale(v["numerics.smoothing_ratio"]),
+                                         model=v["coupling.model"], gamma=v["coupling.gamma"],
+                                         substeps=v["coupling.substeps"],
+                                         surface_threshold=v["coupling.surface_threshold"],
+                                         skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
+                                         box_hi=built.domain_hi)
+                fluid_walls = self.coupling.boundary   # the solid is a moving wall of the fluid
+            self.fluid_solver = FluidSolver(self.fluid, fluid_walls, self.h, self.period, built.domain_lo,
                                             built.domain_hi, v["numerics.neighbour_skin"] * self.h)
             self._apply_fluid_settings()
             self.last_density_error, self.last_density_error_mean = self.fluid_solver.density()
@@ -175,6 +188,9 @@ class Simulation:
             self._apply_solid_settings()
         if self.fluid is not None:
             self._apply_fluid_settings()
+        if self.coupling is not None:
+            v = self.spec.values
+            self.coupling.configure(v["coupling.model"], v["coupling.gamma"], v["coupling.substeps"])
         return deferred
 
     @property
@@ -215,7 +231,7 @@ class Simulation:
     def step(self):
         """Advance one outer step; raises Diverged (state left as found at the check) if the watchdog trips."""
         duration = self.outer_step_duration()
-        if self.solid is not None:
+        if self.solid is not None and self.coupling is None:   # coupled: sub-stepped inside each fluid step
             dt_max = self._solid_dt()
             n = max(1, math.ceil(duration / dt_max * (1.0 - 1e-12)))
             dt = duration / n
@@ -228,18 +244,28 @@ class Simulation:
         self.outer_steps += 1
         self.watchdog.check()
 
-    def _advance_solid(self, n, dt):
+    def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
         s, nb, wk, prm = self.solid, self.solid_neighbours, self.solid_work, self.solid_params
         done, force = 0, False
         while done < n:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
-                               s.acc, _NO_EXTERNAL, nb.start, nb.index, self.period, nb._targets_at_build, prm,
+                               s.acc, ext_acc, nb.start, nb.index, self.period, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()
                 force = True
+
+    def _advance_coupled_solid(self, fluid_dt):
+        """Satake et al. sec. 2.3: the fluid's push from the step just taken, held over the solid's sub-steps."""
+        ext = self.coupling.push(fluid_dt)
+        n, warning = self.coupling.substeps(fluid_dt, self.stable_solid_dt())
+        if warning:
+            self.warnings.append(f"t = {self.time:.6g} s: {warning}")
+        self._advance_solid(n, fluid_dt / n, ext)
+        self.last_solid_dt, self.last_substeps = fluid_dt / n, n
+        self.solid_steps += n
 
     def stable_fluid_dt(self):
         """The fluid's stable step (fluid_stepper.FluidSolver.stable_dt)."""
@@ -271,7 +297,11 @@ class Simulation:
             dt = remaining / n
             if dt < self.spec["fluid.min_time_step"]:
                 self.watchdog.fluid_step_collapsed(dt)
+            if self.coupling is not None:
+                self.coupling.before_fluid_step(solver)
             report = solver.step(dt)
+            if self.coupling is not None:
+                self._advance_coupled_solid(dt)
             done += dt
             steps += 1
             iterations += report.iterations
@@ -357,4 +387,8 @@ class Simulation:
             row.update(stats)
             if hasattr(self.builder, "sample_fluid"):
                 row.update(self.builder.sample_fluid(self))
+        if self.coupling is not None:
+            s = self.solid
+            force = (s.mass[:, None] * self.coupling.acc).sum(axis=0)
+            row["coupling_force_x"], row["coupling_force_y"], row["coupling_force_z"] = (float(x) for x in force)
         return row

@@ -11,7 +11,8 @@ Builder module interface:
     evaluate(series, values)    {measured quantities, reference, error} from the run's time series
     sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure
 """
-from . import cantilever, dam_break, hydrostatic
+from . import antoci_gate, cantilever, dam_break, elastic_gate, hydrostatic
 
-BUILDERS = {"cantilever": cantilever, "hydrostatic": hydrostatic, "dam_break": dam_break}
+BUILDERS = {"cantilever": cantilever, "hydrostatic": hydrostatic, "dam_break": dam_break,
+            "elastic_gate": elastic_gate, "antoci_gate": antoci_gate}
 DEFAULT_SCENE = "cantilever"

@@ -1,0 +1,340 @@
+"""Fluid-structure coupling of Satake et al. sec. 2.3: the elastic solid as a moving wall of the fluid, and the
+fluid's push on the solid, by the paper's eqs. (10)-(11) ('seed') or by equal and opposite pressure pair forces
+('pressure').
+
+Per fluid step dt (simulation.py drives it):
+
+1. The solid particles are a moving wall of the fluid: they are appended to the fixed wall particles in the
+   boundary arrays the fluid solver sums over, at their current positions, with the mass of a fluid-lattice wall
+   particle of the same volume, m'_s = rho0_fluid (m_s / rho_s) s_lattice (s_lattice: scenes/tank.py's lattice
+   density scale), so a fluid particle next to the solid sees rho0 as next to a fixed wall whatever the solid's
+   own density. In eq. (2) a solid particle carries the Shepard average of its fluid neighbours' pressure, as a
+   wall particle does (fluid_okaji.wall_pressure). The fluid's wall lists are rebuilt when the fluid or the solid
+   has moved half the skin since their build (each at most half: pairs never move more than the skin closer).
+2. The fluid takes its step (gravity, predictor, density correction, eq. (8), (9)) with the solid held where it is.
+3. The push on the solid is computed once from the fluid's step and held over the solid's sub-steps:
+   - 'seed', eqs. (10)-(11): adot_b = (r_b(t+dt) - r*_b) / dt^2 for every water particle b (what the density
+     correction moved it, fluid_okaji.apply_displacement's running total). The paper's (10) prints
+     r(t+dt) - r(t), but r(t+dt) - r(t) = v dt is the whole motion, so (10) would be v / dt, not an acceleration,
+     and a water column at rest on a gate would push it with its own fall; the text says the force is "from the
+     local density gradient applied while correcting positions", which is r(t+dt) - r* (METHOD.md sec. 3, Open).
+     For each solid surface particle a with outward normal n_a:
+         alpha_a = gamma sum_b (m_b / rho_b) (adot_b . n_a) W_ab (-n_a),         (11)
+     gamma = coupling.gamma (the paper: 10). Interior solid particles get nothing. It is not momentum-conserving
+     (gamma is a tuning factor); and adot is the water particle's NET correction acceleration, which at rest only
+     balances gravity: a column at rest presses on a vertical gate with little more than its noise (FINDINGS.md).
+   - 'pressure': the fluid pressure P (the step's summed correction pressure, fluid_okaji.correction_pressure, the
+     pressure that held the fluid incompressible over the step, about rho g depth at rest) acts on every solid
+     particle s through the same pair term the fluid feels from it in eq. (2):
+         F_{s<-a} = m_a m'_s (P_a + P_s) / rho0^2 grad_a W_as = -F_{a<-s},         acc_s = sum_a F_{s<-a} / m_s
+     with P_s the Shepard average of the neighbours' P (as in the fluid's wall term) and rho0 for both densities.
+     Pair by pair equal and opposite: momentum is conserved (test_coupling.py sums the pairs).
+4. The solid takes n sub-steps of dt / n with the push as an external acceleration, n = ceil(dt / dt_solid)
+   from the two stable steps (the paper's 200 is what its material gives), or coupling.substeps when set and
+   stable.
+
+Surface particles and normals (the paper does not say how it finds them): from the particle distribution,
+g_a = -sum_b V_b grad_a W_ab over the solid's own particles (clamp included) vanishes inside the body and points
+out of it at a surface (|g| h ~ 0.8 at a flat face of a cubic lattice at h = 1.3 dp, ~0 inside); a particle with
+|g_a| h > coupling.surface_threshold is a surface particle, n_a = g_a / |g_a|. The set is found once at build (an
+elastic body keeps its surface particles); the normals are recomputed from the current positions before every
+push, so they turn with the body as it bends (no separate rotation to track).
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernels import SUPPORT_RADIUS_IN_H, cubic_spline_wf
+from .neighbours import NeighbourList
+from .state import WallState
+
+MODELS = ("seed", "pressure")
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _image(d, period):
+    if period > 0.0:
+        if d > 0.5 * period:
+            return d - period
+        if d < -0.5 * period:
+            return d + period
+    return d
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def surface_gradient(pos, volume, start, index, period, h, out):
+    """g_a = -sum_b V_b grad_a W_ab over the solid's own particles (full list): zero in the bulk, outward at a
+    surface (module docstring). grad_a W_ab = F_ab (r_a - r_b)."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    for a in prange(pos.shape[0]):
+        gx = 0.0
+        gy = 0.0
+        gz = 0.0
+        for k in range(start[a], start[a + 1]):
+            b = index[k]
+            if b == a:
+                continue
+            dx = _image(pos[a, 0] - pos[b, 0], period[0])
+            dy = _image(pos[a, 1] - pos[b, 1], period[1])
+            dz = _image(pos[a, 2] - pos[b, 2], period[2])
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:
+                continue
+            _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            c = volume[b] * f
+            gx -= c * dx
+            gy -= c * dy
+            gz -= c * dz
+        out[a, 0] = gx
+        out[a, 1] = gy
+        out[a, 2] = gz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def surface_normals(gradient, surface, normal):
+    """n_a = g_a / |g_a| on surface particles, 0 elsewhere."""
+    for a in range(gradient.shape[0]):
+        norm = math.sqrt(gradient[a, 0] ** 2 + gradient[a, 1] ** 2 + gradient[a, 2] ** 2)
+        for k in range(3):
+            normal[a, k] = gradient[a, k] / norm if (surface[a] and norm > 0.0) else 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, fluid_mass, fluid_rho, correction,
+              inv_dt2, period, h, gamma, acc):
+    """Eqs. (10)-(11): acc_a = gamma sum_b (m_b / rho_b) (adot_b . n_a) W_ab (-n_a), adot_b = correction_b / dt^2,
+    over the fluid neighbours b of solid surface particle a (solid->fluid list). Zero on interior and clamp
+    particles."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    for a in prange(solid_pos.shape[0]):
+        acc[a, 0] = 0.0
+        acc[a, 1] = 0.0
+        acc[a, 2] = 0.0
+        if not surface[a] or not movable[a]:
+            continue
+        nx, ny, nz = normal[a, 0], normal[a, 1], normal[a, 2]
+        s = 0.0
+        for k in range(sfstart[a], sfstart[a + 1]):
+            b = sfindex[k]
+            dx = _image(solid_pos[a, 0] - fluid_pos[b, 0], period[0])
+            dy = _image(solid_pos[a, 1] - fluid_pos[b, 1], period[1])
+            dz = _image(solid_pos[a, 2] - fluid_pos[b, 2], period[2])
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:
+                continue
+            w, _ = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            proj = (correction[b, 0] * nx + correction[b, 1] * ny + correction[b, 2] * nz) * inv_dt2
+            s += fluid_mass[b] / fluid_rho[b] * proj * w
+        acc[a, 0] = -gamma * s * nx
+        acc[a, 1] = -gamma * s * ny
+        acc[a, 2] = -gamma * s * nz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h, out):
+    """P_s = sum_f P_f W_sf / sum_f W_sf over the fluid neighbours of solid particle s (0 without any): the
+    pressure a solid particle carries as a wall (fluid_okaji.wall_pressure's rule, on the step's summed P)."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    for s in prange(solid_pos.shape[0]):
+        num = 0.0
+        den = 0.0
+        for k in range(sfstart[s], sfstart[s + 1]):
+            f = sfindex[k]
+            dx = _image(solid_pos[s, 0] - fluid_pos[f, 0], period[0])
+            dy = _image(solid_pos[s, 1] - fluid_pos[f, 1], period[1])
+            dz = _image(solid_pos[s, 2] - fluid_pos[f, 2], period[2])
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:
+                continue
+            w, _ = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            num += fluid_p[f] * w
+            den += w
+        out[s] = num / den if den > 0.0 else 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, fluid_pos, fluid_mass, fluid_p, period,
+                            h, rho0, force):
+    """'pressure' model, the solid's side: F_s = sum_a m_a m'_s (P_a + P_s) / rho0^2 grad_a W_as (a gather over the
+    fluid neighbours a of s), grad_a W_as = F_as (r_a - r_s)."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    inv_rho2 = 1.0 / (rho0 * rho0)
+    for s in prange(solid_pos.shape[0]):
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        for k in range(sfstart[s], sfstart[s + 1]):
+            a = sfindex[k]
+            dx = _image(fluid_pos[a, 0] - solid_pos[s, 0], period[0])
+            dy = _image(fluid_pos[a, 1] - solid_pos[s, 1], period[1])
+            dz = _image(fluid_pos[a, 2] - solid_pos[s, 2], period[2])
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:
+                continue
+            _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            c = fluid_mass[a] * wall_mass[s] * (fluid_p[a] + solid_p[s]) * inv_rho2 * f
+            fx += c * dx
+            fy += c * dy
+            fz += c * dz
+        force[s, 0] = fx
+        force[s, 1] = fy
+        force[s, 2] = fz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, solid_pos, wall_mass, solid_p, period,
+                            h, rho0, force):
+    """'pressure' model, the fluid's side of the same pairs: F_a = -sum_s m_a m'_s (P_a + P_s) / rho0^2
+    grad_a W_as over the solid neighbours s of fluid particle a (fluid->solid list). Bookkeeping only: the fluid
+    already felt it in its correction (eq. (2) with the solid as a wall). Sums to minus the solid's side."""
+    inv_h = 1.0 / h
+    sigma = 1.0 / (math.pi * h * h * h)
+    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    inv_rho2 = 1.0 / (rho0 * rho0)
+    for a in prange(fluid_pos.shape[0]):
+        fx = 0.0
+        fy = 0.0
+        fz = 0.0
+        for k in range(fsstart[a], fsstart[a + 1]):
+            s = fsindex[k]
+            dx = _image(fluid_pos[a, 0] - solid_pos[s, 0], period[0])
+            dy = _image(fluid_pos[a, 1] - solid_pos[s, 1], period[1])
+            dz = _image(fluid_pos[a, 2] - solid_pos[s, 2], period[2])
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 >= support2:
+                continue
+            _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            c = fluid_mass[a] * wall_mass[s] * (fluid_p[a] + solid_p[s]) * inv_rho2 * f
+            fx -= c * dx
+            fy -= c * dy
+            fz -= c * dz
+        force[a, 0] = fx
+        force[a, 1] = fy
+        force[a, 2] = fz
+
+
+class Coupling:
+    """The coupling's state: boundary arrays (walls + solid) the fluid sums over, surface set and normals, the push.
+
+    Exists only when a scene has both a solid and a fluid (simulation.py).
+    """
+
+    def __init__(self, solid, fluid, walls, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
+                 substeps=0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None):
+        if model not in MODELS:
+            raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
+        self.solid, self.fluid = solid, fluid
+        self.h = float(h)
+        self.period = np.asarray(period, dtype=np.float64)
+        self.rho0 = float(fluid_rho0)
+        self.configure(model, gamma, substeps)
+        self.offset = walls.count if walls is not None else 0
+        self.volume = solid.mass / solid.rho                       # initial volumes m / rho0_s
+        self.wall_mass = self.rho0 * self.volume * lattice_scale   # module docstring, item 1
+        wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
+        wall_m = walls.mass if walls is not None else np.zeros(0)
+        self.boundary = WallState(pos=np.ascontiguousarray(np.concatenate([wall_pos, solid.pos])),
+                                  mass=np.concatenate([wall_m, self.wall_mass]), rho0=self.rho0)
+        self.solid_p = np.zeros(solid.count)
+        self.acc = np.zeros((solid.count, 3))
+        self.force = np.zeros((solid.count, 3))
+        self.gradient = np.zeros((solid.count, 3))
+        skin = 0.1 * self.h if skin is None else float(skin)
+        self._list_args = (SUPPORT_RADIUS_IN_H * self.h, skin, self.period, box_lo, box_hi)
+        self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h, skin, period=self.period,
+                                              box_lo=box_lo, box_hi=box_hi)
+        self.fluid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h, skin, period=self.period,
+                                              box_lo=box_lo, box_hi=box_hi)   # solid targets, fluid sources
+        self.solid_neighbours.build(solid.pos, solid.pos)
+        surface_gradient(solid.pos, self.volume, self.solid_neighbours.start, self.solid_neighbours.index,
+                         self.period, self.h, self.gradient)
+        self.surface = np.sqrt((self.gradient ** 2).sum(axis=1)) * self.h > surface_threshold
+        if solid.surface_normal is None or len(solid.surface_normal) != solid.count:
+            solid.surface_normal = np.zeros((solid.count, 3))
+        surface_normals(self.gradient, self.surface, solid.surface_normal)
+        self.last_substeps = 0
+        self._forced_warned = False
+
+    def configure(self, model, gamma, substeps):
+        if model not in MODELS:
+            raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
+        self.model, self.gamma, self.forced_substeps = model, float(gamma), int(substeps)
+
+    @property
+    def surface_count(self):
+        return int(self.surface.sum())
+
+    def before_fluid_step(self, solver):
+        """Put the solid where it is into the fluid's boundary; rebuild the fluid's lists if their skin is used up."""
+        self.boundary.pos[self.offset:] = self.solid.pos
+        if solver.wall_neighbours.is_stale(self.fluid.pos, self.boundary.pos):
+            solver.rebuild()
+
+    def refresh_normals(self):
+        s = self.solid
+        nb = self.solid_neighbours
+        nb.update(s.pos, s.pos)
+        surface_gradient(s.pos, self.volume, nb.start, nb.index, self.period, self.h, self.gradient)
+        surface_normals(self.gradient, self.surface, s.surface_normal)
+
+    def push(self, dt):
+        """The solid's external acceleration from the fluid step just taken (held over the sub-steps)."""
+        s, f = self.solid, self.fluid
+        nb = self.fluid_neighbours
+        nb.update(s.pos, f.pos)
+        if self.model == "seed":
+            self.refresh_normals()
+            seed_push(s.pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, f.pos, f.mass, f.rho,
+                      f.correction_displacement, 1.0 / (dt * dt), self.period, self.h, self.gamma, self.acc)
+        else:
+            self.pressure_forces()
+            self.acc[:] = self.force / s.mass[:, None]
+            self.acc[~s.movable] = 0.0
+        return self.acc
+
+    def pressure_forces(self):
+        """'pressure' model: P_s and the forces on the solid particles (self.force, N) from the fluid's current P."""
+        s, f = self.solid, self.fluid
+        nb = self.fluid_neighbours
+        nb.update(s.pos, f.pos)
+        shepard_pressure(s.pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.solid_p)
+        pressure_force_on_solid(s.pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass,
+                                f.pressure, self.period, self.h, self.rho0, self.force)
+        return self.force
+
+    def fluid_side_forces(self):
+        """'pressure' model bookkeeping: the forces of the same pairs on the fluid particles (N_fluid, 3), from a
+        fluid->solid list of their own (call pressure_forces() first for P_s)."""
+        f, s = self.fluid, self.solid
+        radius, skin, period, lo, hi = self._list_args
+        nb = NeighbourList(radius, skin, period=period, box_lo=lo, box_hi=hi)
+        nb.build(f.pos, s.pos)
+        out = np.zeros((f.count, 3))
+        pressure_force_on_fluid(f.pos, f.mass, f.pressure, nb.start, nb.index, s.pos, self.wall_mass, self.solid_p,
+                                self.period, self.h, self.rho0, out)
+        return out
+
+    def substeps(self, fluid_dt, solid_dt_limit):
+        """Solid sub-steps per fluid step: ceil(dt_fluid / dt_solid) from the stable steps, or the forced ratio
+        when it is stable (else the automatic one, with a warning returned once)."""
+        auto = max(1, math.ceil(fluid_dt / solid_dt_limit * (1.0 - 1e-12)))
+        warning = None
+        n = auto
+        if self.forced_substeps > 0:
+            if self.forced_substeps >= auto:
+                n = self.forced_substeps
+            elif not self._forced_warned:
+                self._forced_warned = True
+                warning = (f"coupling.substeps = {self.forced_substeps}: solid step dt_fluid / n above the solid's "
+                           f"stable limit (needs at least {auto}); using {auto} while it does")
+        self.last_substeps = n
+        return n, warning

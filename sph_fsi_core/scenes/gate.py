@@ -1,0 +1,161 @@
+"""Shared geometry of the gate scenes (elastic_gate.py, antoci_gate.py): a water column held by an elastic plate
+clamped at its top, released at t = 0 through the gap under the plate's free end.
+
+Layout (before the optional mirror), everything on one cubic lattice of spacing dp with sites at (i + 1/2) dp:
+- gate: x in [0, T], z from the clearance G to G + L (its free, movable part), then `gate_clamp_height` more of
+  fixed solid particles (movable False: the clamp; for Antoci's gate the rigid wall the gate hangs from, up to the
+  walls' top); y across the whole periodic slab (span_layers layers): the plate spans the channel, so water passes
+  only under it;
+- water: x in [T, T + A] on the gate's +x side, z in [0, H], plus the slot under the gate (x in [0, T], z < G);
+- tank: a floor and end walls of `wall_layers` layers (>= 2h), the upstream end wall at x = T + A, the downstream one
+  at x = -downstream_length, open top; periodic along y (no side walls), like the fluid scenes' slabs.
+`mirror`: x -> -x, so the water sits on the gate's -x side (Antoci's experiment, whose data are for a gate bending
+towards +x).
+
+Probe 'tip': the gate's free end, the lowest movable layer (all of its particles across x and y); its mean
+displacement in x and z is the free-end displacement of Satake et al.'s Fig. 7 and Antoci's data.
+"""
+import math
+
+import numpy as np
+
+from ..schema import Param, SceneError
+from ..state import FluidState, Probe, SolidState, WallState
+from . import tank
+from .built import Built
+
+PHASES = ("solid", "fluid", "walls", "coupling")
+CONSERVATIVE = False     # gravity does work as the water falls
+
+
+def geometry_params(d):
+    """The gate scenes' geometry keys, defaults from `d`."""
+    return [
+        Param("geometry.gate_thickness", d["gate_thickness"], "m", "Gate thickness T along x", low=0.0,
+              low_inclusive=False, high=10.0),
+        Param("geometry.gate_length", d["gate_length"], "m",
+              "Gate free length L along z, clamp to free end (rounded to whole spacings)", low=0.0,
+              low_inclusive=False, high=10.0),
+        Param("geometry.gate_clearance", d["gate_clearance"], "m",
+              "Gap G between the gate's free end and the floor (rounded to whole spacings, at least one)", low=0.0,
+              low_inclusive=False, high=10.0),
+        Param("geometry.gate_clamp_height", d["gate_clamp_height"], "m",
+              "Fixed solid above the free length (the clamp; rounded to whole spacings, at least 2h)", low=0.0,
+              low_inclusive=False, high=10.0),
+        Param("geometry.water_width", d["water_width"], "m", "Water column width A along x (beside the gate)",
+              low=0.0, low_inclusive=False, high=10.0),
+        Param("geometry.water_height", d["water_height"], "m", "Water depth H along z", low=0.0,
+              low_inclusive=False, high=10.0),
+        Param("geometry.downstream_length", d["downstream_length"], "m",
+              "Floor beyond the gate on the dry side, to the far end wall", low=0.0, low_inclusive=False,
+              high=100.0),
+        Param("geometry.wall_height", d["wall_height"], "m", "Height of the end walls above the floor", low=0.0,
+              low_inclusive=False, high=100.0),
+        Param("geometry.span", d["span"], "m",
+              "Width of the periodic slab along y, gate and water across all of it (rounded to whole spacings; "
+              "0: the narrowest slab the neighbour lists allow, 2 (2h + skin))", low=0.0, high=10.0),
+        Param("geometry.wall_layers", 3, "1", "Layers of wall particles (their thickness must reach 2h)",
+              kind="int", low=1, high=20),
+        Param("geometry.mirror", d["mirror"], "", "Mirror x: the water on the gate's -x side", kind="bool"),
+    ]
+
+
+def _round_layers(extent, dp, key, at_least=1):
+    n = int(round(extent / dp))
+    if n < at_least:
+        raise SceneError(f"numerics.spacing = {dp:g} m is too coarse for {key} = {extent:g} m; allowed: at most "
+                         f"{extent / at_least:g} m ({at_least} particle layers)")
+    return n
+
+
+def layer_counts(values):
+    dp = values["numerics.spacing"]
+    h = values["numerics.smoothing_ratio"] * dp
+    return dict(
+        nt=_round_layers(values["geometry.gate_thickness"], dp, "geometry.gate_thickness", 2),
+        nl=_round_layers(values["geometry.gate_length"], dp, "geometry.gate_length", 4),
+        ng=_round_layers(values["geometry.gate_clearance"], dp, "geometry.gate_clearance", 1),
+        nc=max(_round_layers(values["geometry.gate_clamp_height"], dp, "geometry.gate_clamp_height", 1),
+               math.ceil(2.0 * h / dp - 1e-9)),
+        na=_round_layers(values["geometry.water_width"], dp, "geometry.water_width", 2),
+        nh=_round_layers(values["geometry.water_height"], dp, "geometry.water_height", 2),
+        nd=_round_layers(values["geometry.downstream_length"], dp, "geometry.downstream_length", 2),
+        nw=int(math.ceil(values["geometry.wall_height"] / dp - 1e-9)),
+        ny=span_layers(values))
+
+
+def span_layers(values):
+    """Layers across the slab: geometry.span in whole spacings, at least the periodic minimum 2 (2h + skin) / dp."""
+    dp = values["numerics.spacing"]
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * values["numerics.smoothing_ratio"] * dp
+    need = math.ceil(2.0 * cutoff / dp - 1e-9)
+    return max(need, int(round(values["geometry.span"] / dp)))
+
+
+def check(values):
+    from .hydrostatic import check_walls_and_span
+    c = layer_counts(values)
+    check_walls_and_span({**values, "geometry.periodic_y": True, "geometry.span_layers": c["ny"]})
+    if c["nw"] < c["nh"]:
+        raise SceneError(f"geometry.wall_height = {values['geometry.wall_height']:g} m: below the water; allowed: "
+                         f"at least geometry.water_height")
+
+
+def build(values):
+    dp = values["numerics.spacing"]
+    c = layer_counts(values)
+    nt, nl, ng, nc, na, nh, nd, nw, ny = (c[k] for k in ("nt", "nl", "ng", "nc", "na", "nh", "nd", "nw", "ny"))
+    rho0 = values["fluid.density"]
+    scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
+    layers = values["geometry.wall_layers"]
+    # gate: free part then the clamp above it
+    gate = tank.lattice(nt, ny, nl + nc, dp, offset=(0.0, 0.0, ng * dp))
+    movable = gate[:, 2] < (ng + nl) * dp
+    # water beside the gate (x in [T, T + A]) and in the slot under it
+    water = np.concatenate([tank.lattice(na, ny, nh, dp, offset=(nt * dp, 0.0, 0.0)),
+                            tank.lattice(nt, ny, ng, dp)])
+    # tank: inside x in [-D, T + A], i.e. nd + nt + na sites from x0 = -D
+    inside = nd + nt + na
+    walls = tank.tank_walls(inside, ny, nw, layers, dp, True)
+    walls[:, 0] -= nd * dp
+    # the clamp may reach above the walls; wall sites never coincide with gate sites (walls are outside x range)
+    pos_all = [gate, water, walls]
+    if values["geometry.mirror"]:
+        for p in pos_all:
+            p[:, 0] *= -1.0
+    solid = SolidState.at_rest(gate, movable, values["solid.density"], dp)
+    fluid = FluidState.at_rest(water, rho0, dp, mass_scale=scale)
+    wall_state = WallState.lattice(walls, rho0, dp, mass_scale=scale)
+    tip = np.flatnonzero(movable & np.isclose(gate[:, 2], (ng + 0.5) * dp))
+    probes = [Probe("tip", "solid", tip, gate[tip].mean(axis=0))]
+    span = ny * dp
+    top = max(nw, ng + nl + nc) * dp
+    margin = max(top, 0.05)
+    xlo, xhi = -nd * dp - layers * dp - margin, (nt + na) * dp + layers * dp + margin
+    if values["geometry.mirror"]:
+        xlo, xhi = -xhi, -xlo
+    lo = np.array([xlo, 0.0, -layers * dp - margin])
+    hi = np.array([xhi, span, top + margin])
+    period = np.array([0.0, span, 0.0])
+    return Built(solid=solid, fluid=fluid, walls=wall_state, probes=probes, domain_lo=lo, domain_hi=hi,
+                 period=period)
+
+
+def effective_geometry(values):
+    """The lattice's actual extents (the keys rounded to whole spacings), m."""
+    dp = values["numerics.spacing"]
+    c = layer_counts(values)
+    return {"gate_thickness_m": c["nt"] * dp, "gate_free_length_m": c["nl"] * dp, "gate_clearance_m": c["ng"] * dp,
+            "clamp_height_m": c["nc"] * dp, "water_width_m": c["na"] * dp, "water_height_m": c["nh"] * dp,
+            "span_m": c["ny"] * dp}
+
+
+def sample(solid, probes):
+    """Extra time-series columns: the free end's mean velocity in x and z."""
+    tip = probes[0].indices
+    return {"tip_vx": float(solid.vel[tip, 0].mean()), "tip_vz": float(solid.vel[tip, 2].mean())}
+
+
+def sigma_zz(solid):
+    """sigma_zz = S_zz - p on every solid particle, Pa (the paper's sigma^22)."""
+    return solid.stress[:, 2] - solid.pressure

@@ -1,0 +1,144 @@
+"""Fluid-structure coupling (coupling.py): phases, surface normals, the seed push's direction, pressure pair forces
+that sum to zero, the sub-step ratio, and the solid as a moving wall of the fluid."""
+import math
+
+import numpy as np
+import pytest
+
+from sph_fsi_core.coupling import Coupling
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.simulation import Simulation
+
+COARSE = [("numerics.spacing", 0.002), ("geometry.gate_clamp_height", 0.004), ("geometry.span", 0.0)]
+
+
+@pytest.fixture(scope="module")
+def gate_sim():
+    return Simulation(load_scene("elastic_gate", COARSE))
+
+
+def test_phases_build_only_what_the_scene_has():
+    cant = Simulation(load_scene("cantilever", [("numerics.spacing", 0.002)]))
+    assert cant.solid is not None and cant.fluid is None and cant.fluid_solver is None and cant.coupling is None
+    dam = Simulation(load_scene("dam_break", [("numerics.spacing", 0.05715 / 10)]))
+    assert dam.fluid is not None and dam.solid is None and dam.coupling is None
+    assert not hasattr(dam, "solid_work")
+    gate = Simulation(load_scene("elastic_gate", COARSE))
+    assert gate.solid is not None and gate.fluid is not None and isinstance(gate.coupling, Coupling)
+    # the fluid sums over walls + solid: the solid is a moving wall of the fluid
+    assert gate.fluid_solver.wall_pos.shape[0] == gate.walls.count + gate.solid.count
+
+
+def test_coupling_keys_only_in_coupled_scenes():
+    from sph_fsi_core.schema import SceneError
+    with pytest.raises(SceneError, match="coupling"):
+        load_scene("dam_break", [("coupling.gamma", 5.0)])
+    with pytest.raises(SceneError, match="coupling.model"):
+        load_scene("elastic_gate", [("coupling.model", "magic")])
+
+
+def test_paper_particle_counts_at_1mm():
+    sim = Simulation(load_scene("elastic_gate"))
+    assert sim.solid.moving_count == 5760          # 4 x 36 x 40
+    assert sim.fluid.count == 27648                # 27,360 + the 288 in the slot
+    assert sim.solid.count - sim.solid.moving_count == 432   # clamp: 3 layers of 4 x 36
+
+
+def test_surface_normals(gate_sim):
+    s, c = gate_sim.solid, gate_sim.coupling
+    n = s.surface_normal
+    dp = 0.002
+    mid = np.isclose(s.pos[:, 2], s.pos[:, 2].min() + 10 * dp)
+    wet = mid & np.isclose(s.pos[:, 0], s.pos[:, 0].max())
+    dry = mid & np.isclose(s.pos[:, 0], s.pos[:, 0].min())
+    assert c.surface[wet].all() and c.surface[dry].all()
+    np.testing.assert_allclose(n[wet], np.tile([1.0, 0.0, 0.0], (wet.sum(), 1)), atol=1e-9)
+    np.testing.assert_allclose(n[dry], np.tile([-1.0, 0.0, 0.0], (dry.sum(), 1)), atol=1e-9)
+    bottom = np.isclose(s.pos[:, 2], s.pos[:, 2].min())
+    assert (n[bottom, 2] < -0.5).all()
+
+
+def test_surface_interior_of_a_thick_block():
+    """A 6-layer-thick gate has interior particles: no normal there, unit normals on the faces."""
+    sim = Simulation(load_scene("elastic_gate", COARSE + [("geometry.gate_thickness", 0.012)]))
+    c, s = sim.coupling, sim.solid
+    x = s.pos[:, 0]
+    inner = (x > x.min() + 1.5 * 0.002) & (x < x.max() - 1.5 * 0.002) & s.movable
+    inner &= s.pos[:, 2] > s.pos[:, 2].min() + 3 * 0.002
+    assert inner.any() and not c.surface[inner].any()
+    assert np.allclose(np.linalg.norm(s.surface_normal[c.surface], axis=1), 1.0)
+    assert np.allclose(s.surface_normal[~c.surface], 0.0)
+
+
+def test_seed_push_opposes_the_waters_correction(gate_sim):
+    """Eq. (11): water pushed away from the wet face (+x) pushes the face towards -x, scaled by gamma."""
+    sim = gate_sim
+    f, s, c = sim.fluid, sim.solid, sim.coupling
+    c.configure("seed", 10.0, 0)
+    dt = 1.0e-3
+    f.correction_displacement[:] = 0.0
+    f.correction_displacement[:, 0] = 1.0e-6          # every water particle moved +x by the correction
+    acc = c.push(dt).copy()
+    wet = c.surface & s.movable & (s.surface_normal[:, 0] > 0.9)
+    assert (acc[wet, 0] < 0.0).all()
+    interior_or_clamp = ~c.surface | ~s.movable
+    assert np.allclose(acc[interior_or_clamp], 0.0)
+    c.configure("seed", 20.0, 0)
+    np.testing.assert_allclose(c.push(dt), 2.0 * acc, rtol=1e-12, atol=0.0)
+    f.correction_displacement[:] = 0.0
+
+
+def test_pressure_pair_forces_sum_to_zero(gate_sim):
+    """'pressure' model: the pair forces on solid and fluid are equal and opposite, so they sum to zero."""
+    sim = gate_sim
+    f, c = sim.fluid, sim.coupling
+    rng = np.random.default_rng(4)
+    saved = f.pressure.copy()
+    f.pressure[:] = rng.uniform(0.0, 500.0, f.count)
+    on_solid = c.pressure_forces().copy()
+    on_fluid = c.fluid_side_forces()
+    total_solid = on_solid.sum(axis=0)
+    total_fluid = on_fluid.sum(axis=0)
+    scale = np.abs(on_solid).sum()
+    assert scale > 0.0
+    np.testing.assert_allclose(total_solid + total_fluid, 0.0, atol=1e-12 * scale)
+    assert abs(total_solid[0]) > 1e-6 * scale     # not trivially zero: the wet face carries a net load
+    f.pressure[:] = saved
+
+
+def test_pressure_model_hydrostatic_load_direction():
+    """A uniform pressure on the wet side only pushes the gate towards the dry side (-x)."""
+    sim = Simulation(load_scene("elastic_gate", COARSE + [("coupling.model", "pressure")]))
+    f = sim.fluid
+    f.pressure[:] = 1000.0
+    acc = sim.coupling.push(1e-3)
+    assert acc[sim.solid.movable, 0].sum() < 0.0
+
+
+def test_substep_ratio():
+    sim = Simulation(load_scene("elastic_gate", COARSE))
+    c = sim.coupling
+    dts = sim.stable_solid_dt()
+    n, warning = c.substeps(1.0e-3, dts)
+    assert n == math.ceil(1.0e-3 / dts) and warning is None
+    c.configure("seed", 10.0, 10 * n)
+    assert c.substeps(1.0e-3, dts) == (10 * n, None)
+    c.configure("seed", 10.0, 1)
+    n1, warning = c.substeps(1.0e-3, dts)
+    assert n1 == n and "coupling.substeps" in warning
+
+
+def test_one_coupled_step_moves_both_phases_and_keeps_water_out_of_the_gate():
+    sim = Simulation(load_scene("elastic_gate", COARSE + [("coupling.model", "pressure"),
+                                                        ("output.timeseries_interval", 0.004)]))
+    sim.step()
+    assert sim.fluid_steps >= 1 and sim.solid_steps >= sim.fluid_steps * 10
+    assert np.abs(sim.solid.vel[sim.solid.movable]).max() > 0.0
+    # the boundary the fluid saw holds the solid where it was at the last fluid step
+    gate_x = (sim.solid.pos[:, 0].min(), sim.solid.pos[:, 0].max())
+    top = sim.solid.pos[:, 2].max()
+    inside = ((sim.fluid.pos[:, 0] > gate_x[0] + 0.001) & (sim.fluid.pos[:, 0] < gate_x[1] - 0.001)
+              & (sim.fluid.pos[:, 2] > sim.solid.pos[:, 2].min() + 0.001) & (sim.fluid.pos[:, 2] < top))
+    assert not inside.any()
+    row = sim.sample()
+    assert {"coupling_force_x", "tip_dx", "tip_dz", "strain_energy", "solid_substeps"} <= set(row)
