@@ -6,7 +6,7 @@ from pathlib import Path
 
 from sph_fsi_core.run import machine_info
 
-from . import fluid_throughput, solid_throughput
+from . import fluid_throughput, recording_cost, solid_throughput
 
 
 def main(argv=None):
@@ -35,12 +35,16 @@ def main(argv=None):
               "(density, pressure, wall pressure, position correction); the time is that of whole steps "
               "(rebuilds, viscosity, watchdog included). Load: the machine's 1-minute load average during the run "
               "(2 cores; above 2 means the run shared them).", "",
-              "| case | fluid particles | pairs per particle | steps | iterations / step | seconds | "
-              "M particle-iterations/s | M particle-steps/s | threads | load |", "|---|---|---|---|---|---|---|---|---|---|"]
+              "| case | fluid particles | wall particles | pairs per particle | steps | iterations / step | seconds | "
+              "M particle-iterations/s | M particle-steps/s | threads | load |",
+              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in fluid:
-        lines.append(f"| {r['case']} | {r['fluid_particles']} | {r['pairs_per_particle']} | {r['steps']} | "
+        lines.append(f"| {r['case']} | {r['fluid_particles']} | {r['wall_particles']} | {r['pairs_per_particle']} | "
+                     f"{r['steps']} | "
                      f"{r['iterations_per_step']} | {r['seconds']} | {r['particle_iterations_per_second'] / 1e6:.3f} | "
                      f"{r['particle_steps_per_second'] / 1e6:.3f} | {r['threads']} | {r['load_average']:.1f} |")
+    rec = recording_cost.main([])
+    lines += ["", "## Recording cost (MCAP, Rerun)", "", recording_cost.markdown(rec)]
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(lines) + "\n")
