@@ -240,7 +240,7 @@ def write_report(out_dir, rungs, summaries):
         "particle per fluid step, over stepping "
         "time only; a value well below the benchmark's (`docs/performance/BENCH.md`) means the run shared the "
         "2 cores with other work and its wall time is inflated by the same factor.", "",
-        "| case | run | dp [mm] | particles | solid steps | wall [s] | M particle-steps/s | measured | reference | "
+        "| case | run | dp [mm] | particles | steps | wall [s] | M particle-steps/s | measured | reference | "
         "error | stable |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
