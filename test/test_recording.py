@@ -332,3 +332,40 @@ def test_signal_mid_recording_leaves_whole_files(sig, tmp_path):
     data, _ = rrd_contents(rrd)
     assert sorted(data["/world/solid"]) == clocks
     assert data["/status"][t_stop]["TextLog:text"] == [f"interrupted at t = {t_stop * 1e-9:.6g} s"]
+
+
+def test_fluid_scene_records_fluid_and_walls_only(tmp_path):
+    """A scene with water and walls but no solid: the fluid as phase 1 coloured by pressure, no solid topics."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    mcap, rrd, out = tmp_path / "h.mcap", tmp_path / "h.rrd", tmp_path / "out"
+    r = run_cli(["run", "hydrostatic", "--set", "numerics.spacing=0.005", "--end-time", "0.02",
+                 "--record-interval", "0.005", "--mcap", str(mcap), "--rrd", str(rrd), "--out", str(out)],
+                timeout=600)
+    assert r.returncode == 0, r.stderr
+    snaps = sorted((out / "snapshots").glob("snapshot_*.npz"))
+    first, last = np.load(snaps[0]), np.load(snaps[-1])
+    assert abs(float(last["time"]) - 0.02) < 1e-9
+    clouds = {}
+    with open(mcap, "rb") as fh:
+        reader = make_reader(fh, decoder_factories=[DecoderFactory()])
+        topics = {c.topic for c in reader.get_summary().channels.values()}
+        for _s, ch, _m, msg in reader.iter_decoded_messages(log_time_order=True):
+            if ch.topic in (f"{NS}/particles", f"{NS}/walls"):
+                clouds.setdefault(ch.topic, []).append(_cloud(msg)[2])
+    assert topics == {f"{NS}/particles", f"{NS}/walls", "/clock", "/diagnostics"}
+    assert len(clouds[f"{NS}/particles"]) == 5 and len(clouds[f"{NS}/walls"]) == 1
+    pts = clouds[f"{NS}/particles"][-1]
+    assert (pts["phase"] == 1).all() and len(pts) == len(last["fluid_position"])
+    np.testing.assert_array_equal(pts["pressure"], last["fluid_pressure"].astype(np.float32))
+    np.testing.assert_array_equal(pts["z"], last["fluid_position"][:, 2].astype(np.float32))
+    assert pts["pressure"].max() > 100.0          # hydrostatic pressure builds up: rho g H ~ 981 Pa at the floor
+    np.testing.assert_array_equal(clouds[f"{NS}/walls"][0]["x"], first["wall_position"][:, 0].astype(np.float32))
+    assert subprocess.run([RERUN, "rrd", "verify", str(rrd)], env=env(), capture_output=True,
+                          timeout=120).returncode == 0
+    data, static = rrd_contents(rrd)
+    assert "/world/fluid" in data and "/world/solid" not in data and "/world/walls" in static
+    assert "/energy/fluid_kinetic" in data and "/energy/strain" not in data
+    assert sorted(data["/world/fluid"]) == [round(k * 0.005e9) for k in range(5)]
+    assert len(data["/world/fluid"][round(0.02e9)]["Points3D:positions"]) == len(last["fluid_position"])
+    assert data["/legend/fluid/max"][round(0.02e9)]["Scalars:scalars"][0] > 100.0

@@ -30,7 +30,7 @@ class Frame:
     time: float                 # s, simulated
     raw: list                   # [(phase code, pos, vel, pressure, stress (N, 6) or None, movable mask)]: full copies
     probes: dict                # name -> (dx, dy, dz) m
-    energies: dict              # 'kinetic_energy', 'strain_energy' J (what the scene has)
+    energies: dict              # sim.energies(): 'kinetic_energy', 'strain_energy', 'fluid_kinetic_energy' J
     diagnostics: dict = field(default_factory=dict)   # key -> str, for /diagnostics
     status: str = "running"
     _parts: list = None
@@ -78,9 +78,8 @@ def capture(sim, row=None, diagnostics=None):
         raw.append((PHASE_CODES[phase], state.pos.copy(), state.vel.copy(), state.pressure.copy(),
                     None if stress is None else stress.copy(), None if m is None else np.array(m, dtype=bool)))
     probes = {k: tuple(float(x) for x in v) for k, v in sim.probe_displacements().items()}
-    if row is not None and all(k in row for k in ("kinetic_energy", "strain_energy")):
-        energies = {k: float(row[k]) for k in ("kinetic_energy", "strain_energy")}
-    else:
+    energies = {k: float(v) for k, v in row.items() if k.endswith("energy")} if row is not None else None
+    if not energies:
         energies = {k: float(v) for k, v in sim.energies().items()}
     return Frame(time=float(sim.time), raw=raw, probes=probes, energies=energies,
                  diagnostics=dict(diagnostics or {}))

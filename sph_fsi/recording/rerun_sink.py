@@ -4,7 +4,7 @@ Entities (only what the scene has):
 - `world/solid`, `world/fluid`: the moving particles, Points3D coloured by von Mises stress (solid, viridis)
   and pressure (fluid, plasma); radius half the particle spacing.
 - `world/walls`: the fixed particles (walls, the solid's clamp), grey, logged once as static.
-- `probes/<name>/{dx,dy,dz}` [m], `energy/{kinetic,strain}` [J]: Scalars.
+- `probes/<name>/{dx,dy,dz}` [m], `energy/{kinetic,strain}` (solid), `energy/fluid_kinetic` [J]: Scalars.
 - `legend/<phase>/{min,max}` [Pa]: the colour map's range at each frame, and a static `legend` text document
   that says which colour map and quantity each entity uses.
 - `status`: a TextLog line when the run ends (finished, diverged, interrupted, failed).
@@ -115,9 +115,8 @@ class RerunSink:
         for probe, d in item.probes.items():
             for axis, v in zip(("dx", "dy", "dz"), d):
                 rec.log(f"probes/{probe}/{axis}", rr.Scalars(v))
-        for key, entity in (("kinetic_energy", "energy/kinetic"), ("strain_energy", "energy/strain")):
-            if key in item.energies:
-                rec.log(entity, rr.Scalars(item.energies[key]))
+        for key, value in item.energies.items():   # kinetic_energy -> energy/kinetic, fluid_kinetic_energy -> ...
+            rec.log(f"energy/{key.removesuffix('_energy')}", rr.Scalars(value))
         self.frames += 1
 
     def close(self):
