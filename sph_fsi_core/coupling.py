@@ -35,8 +35,8 @@ Per fluid step dt (simulation.py drives it):
 
 Surface particles and normals (the paper does not say how it finds them): from the particle distribution,
 g_a = -sum_b V_b grad_a W_ab over the solid's own particles (clamp included) vanishes inside the body and points
-out of it at a surface (|g| h ~ 0.8 at a flat face of a cubic lattice at h = 1.3 dp, ~0 inside); a particle with
-|g_a| h > coupling.surface_threshold is a surface particle, n_a = g_a / |g_a|. The set is found once at build (an
+out of it at a surface (|g| h = 0.59 at a flat face of a cubic lattice at h = 1.3 dp, 0.06 one layer in, 0
+deeper); a particle with |g_a| h > coupling.surface_threshold (0.4) is a surface particle, n_a = g_a / |g_a|. The set is found once at build (an
 elastic body keeps its surface particles); the normals are recomputed from the current positions before every
 push, so they turn with the body as it bends (no separate rotation to track).
 """

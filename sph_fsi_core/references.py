@@ -108,6 +108,7 @@ def antoci_gate_tip(component):
     (reference_data/antoci2007_exp_gate_tip_x.csv for 'x'; _y.csv, their vertical, for 'z'); digitised, not
     zero-shifted."""
     import numpy as np
-    name, col = {"x": ("antoci2007_exp_gate_tip_x.csv", "x_m"), "z": ("antoci2007_exp_gate_tip_y.csv", "y_m")}[component]
+    name, col = {"x": ("antoci2007_exp_gate_tip_x.csv", "x_m"),
+                 "z": ("antoci2007_exp_gate_tip_y.csv", "y_m")}[component]
     rows = read_reference_csv(name)
     return np.array([r["time_s"] for r in rows]), np.array([r[col] for r in rows])

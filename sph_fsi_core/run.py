@@ -69,7 +69,10 @@ def write_snapshot(sim, path, snapshot_index=0):
         s = sim.solid
         data.update(solid_position=s.pos, solid_velocity=s.vel, solid_density=s.rho, solid_pressure=s.pressure,
                     solid_stress_deviatoric=s.stress, solid_movable=s.movable,
+                    solid_sigma_zz=s.stress[:, 2] - s.pressure,   # the paper's sigma^22 (Fig. 6), Pa
                     stress_components=np.array(COMPONENT_NAMES))
+        if s.surface_normal is not None:
+            data.update(solid_surface_normal=s.surface_normal)
     if sim.fluid is not None:
         f = sim.fluid
         data.update(fluid_position=f.pos, fluid_velocity=f.vel, fluid_density=f.rho, fluid_pressure=f.pressure,
@@ -144,6 +147,9 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
         "wall_time_s": setup_s + stepping_s, "setup_time_s": setup_s, "stepping_time_s": stepping_s,
         "particle_steps": particle_steps,
         "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
+        "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
+                      "surface_particles": sim.coupling.surface_count,
+                      "last_substeps": sim.coupling.last_substeps} if getattr(sim, "coupling", None) else None),
         "snapshots": snap_count, "machine": machine_info(),
         "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},
         **evaluation,

@@ -193,8 +193,8 @@ COUPLING = [
        "Solid sub-steps per fluid step (0: ceil(fluid dt / stable solid dt); a forced value below that is "
        "replaced by it with a warning); the paper: 200", kind="int", low=0, high=100000, rebuild=False),
     _p("coupling.surface_threshold", 0.4, "1",
-       "A solid particle is a surface particle when |sum_b V_b grad W_ab| h exceeds this (about 0.8 at a flat "
-       "face, 0 inside)", low=0.0, low_inclusive=False, high=2.0),
+       "A solid particle is a surface particle when |sum_b V_b grad W_ab| h exceeds this (0.59 at a flat "
+       "face, 0.06 one layer in, 0 deeper)", low=0.0, low_inclusive=False, high=2.0),
 ]
 
 SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID, "fluid": FLUID, "coupling": COUPLING}

@@ -32,7 +32,8 @@ def evaluate(series, values):
 
     Qualitative checks against the paper (Figs. 6-8): peak time within 0.06-0.08 s; the free end comes back by at
     least 20 % of its peak deflection by the end; the strain energy's peak is followed by a fall of at least 20 %.
-    error: the distance of the peak time from the paper's window, in s (0 inside it).
+    The paper gives no numbers to score against, so `error` is None; `peak_time_miss_s` is the distance of the
+    peak time from the paper's window (0 inside it).
     """
     t, dx, dz, energy = series["time"], series["tip_dx"], series["tip_dz"], series["strain_energy"]
     i = int(np.argmax(np.abs(dx)))
@@ -51,5 +52,6 @@ def evaluate(series, values):
             "check_springs_back": bool(back >= 0.2 and i < len(t) - 1),
             "check_energy_rises_and_falls": bool(fall >= 0.2 and j < len(t) - 1),
             "geometry_effective": gate.effective_geometry(values),
-            "error_metric": "distance of the free end's peak-deflection time from the paper's 0.06-0.08 s, s",
-            "error": float(miss)}
+            "peak_time_miss_s": float(miss),
+            "error_metric": "none (qualitative: the check_* entries against the paper's Figs. 6-8)",
+            "error": None}
