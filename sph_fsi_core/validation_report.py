@@ -253,6 +253,44 @@ def _gate_plots(out_dir, rungs, summaries, plt):
     return made
 
 
+def _gate_snapshot_plots(out_dir, rungs, summaries, plt):
+    """Frames of the finest elastic_gate run with snapshots, like the paper's Fig. 6: water and gate particles of
+    the slab's middle layer in the x-z plane, the gate coloured by sigma_zz (the paper's sigma^22)."""
+    made = []
+    runs = [r for r in rungs if r.case == "elastic_gate" and r.key in summaries and summaries[r.key]["stable"]]
+    for r in runs:
+        snaps = sorted((Path(out_dir) / "runs" / r.case / r.label / "snapshots").glob("snapshot_*.npz"))
+        if len(snaps) < 2:
+            continue
+        frames = [np.load(p) for p in snaps]
+        fig, axes = plt.subplots(2, (len(frames) + 1) // 2, figsize=(3.2 * ((len(frames) + 1) // 2), 3.6),
+                                 sharex=True, sharey=True, squeeze=False)
+        dp = summaries[r.key]["settings"]["numerics.spacing"]
+        scale = max(max(float(np.percentile(np.abs(f["solid_sigma_zz"][f["solid_movable"]]), 98)) for f in frames),
+                    1.0)
+        for ax, f in zip(axes.flat, frames):
+            fp, sp = f["fluid_position"], f["solid_position"]
+            y_mid = np.median(sp[:, 1])
+            fm = np.abs(fp[:, 1] - y_mid) < 0.5 * dp
+            sm = (np.abs(sp[:, 1] - y_mid) < 0.5 * dp) & f["solid_movable"]
+            szz = f["solid_sigma_zz"][sm]
+            ax.scatter(fp[fm, 0] * 1e3, fp[fm, 2] * 1e3, s=2, c="C0", lw=0)
+            sc = ax.scatter(sp[sm, 0] * 1e3, sp[sm, 2] * 1e3, s=4, c=szz, cmap="coolwarm", vmin=-scale,
+                            vmax=scale, lw=0)
+            ax.set_xlim(-60.0, 30.0)
+            ax.set_title(f"t = {float(f['time']):.2f} s", fontsize=8)
+            ax.set_aspect("equal")
+        for ax in axes.flat[len(frames):]:
+            ax.axis("off")
+        fig.colorbar(sc, ax=axes.ravel().tolist(), shrink=0.6, label="sigma_zz [Pa]")
+        fig.suptitle(f"elastic_gate {r.label}: middle layer, gate by sigma_zz (cf. the paper's Fig. 6)", fontsize=9)
+        name = f"elastic_gate_frames_{r.label}.png"
+        fig.savefig(Path(out_dir) / name, dpi=110)
+        plt.close(fig)
+        made.append(name)
+    return made
+
+
 def _plots(out_dir, rungs, summaries):
     import matplotlib
     matplotlib.use("Agg")
@@ -323,6 +361,7 @@ def _plots(out_dir, rungs, summaries):
             made.append("cantilever_tip_and_energy.png")
     made += _fluid_plots(out_dir, rungs, summaries, plt)
     made += _gate_plots(out_dir, rungs, summaries, plt)
+    made += _gate_snapshot_plots(out_dir, rungs, summaries, plt)
     return made
 
 
