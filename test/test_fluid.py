@@ -207,3 +207,26 @@ def test_each_step_meets_the_criterion_it_is_given(on, tolerance):
         if vmax > 0.0:
             assert row["fluid_dt"] <= cfl * h / vmax * (1 + 1e-9)
     assert sim.sample()["front_Z"] > 1.05
+
+
+def test_periodic_or_closed_span_and_refusals():
+    """Periodic y (default): no side walls, the slab wraps; closed: side walls at y = 0 and y = span. A slab
+    thinner than twice the neighbour cutoff, or walls thinner than 2h, are refused by name."""
+    periodic = Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005"]))
+    closed = Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.periodic_y=false"]))
+    assert periodic.period[1] == pytest.approx(6 * 0.005) and periodic.period[0] == periodic.period[2] == 0.0
+    assert closed.period.tolist() == [0.0, 0.0, 0.0]
+    assert periodic.walls.pos[:, 1].min() > 0.0 and closed.walls.pos[:, 1].min() < 0.0
+    # the closed slab's fluid sees its side walls: same rest density everywhere below the surface
+    f = closed.fluid
+    below = f.pos[:, 2] < 0.1 - 2.0 * closed.h
+    assert np.all(np.abs(f.rho[below] - 1000.0) < 1e-10 * 1000.0)
+    for _ in range(10):
+        closed.step()
+        periodic.step()
+    assert closed.sample()["outside_walls"] == 0 and periodic.sample()["outside_walls"] == 0
+    assert np.all((periodic.fluid.pos[:, 1] >= 0.0) & (periodic.fluid.pos[:, 1] < periodic.period[1]))
+    with pytest.raises(SceneError, match="geometry.span_layers"):
+        load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.span_layers=5"])
+    with pytest.raises(SceneError, match="geometry.wall_layers"):
+        load_scene("dam_break", ["numerics.spacing=0.005715", "geometry.wall_layers=2"])
