@@ -26,7 +26,6 @@ Choices where the paper is open (docs/method.md, "Fluid"):
 """
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf

@@ -32,8 +32,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .fluid_okaji import (apply_displacement, compression_error, gravity_and_predictor,
-                          pressure_displacement, summation_density, wall_pressure, velocity_from_displacement, viscous_velocity,
+from .fluid_okaji import (apply_displacement, compression_error, gravity_and_predictor, pressure_displacement,
+                          summation_density, velocity_from_displacement, viscous_velocity, wall_pressure,
                           wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
 from .neighbours import NeighbourList
@@ -53,8 +53,9 @@ class StepReport(NamedTuple):
 
 @njit(cache=True, fastmath=False, error_model="numpy")
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
-                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0, c2, dt2,
-                    tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total, moved2):
+                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0,
+                    c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
+                    moved2):
     """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
     Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
