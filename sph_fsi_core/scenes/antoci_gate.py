@@ -18,7 +18,7 @@ from .gate import CONSERVATIVE, PHASES, build, sample  # noqa: F401  (builder in
 
 GEOMETRY = gate.geometry_params(dict(
     gate_thickness=0.005, gate_length=0.079, gate_clearance=0.0025, gate_clamp_height=0.0685, water_width=0.1,
-    water_height=0.14, downstream_length=0.2, wall_height=0.15, span=0.0, mirror=True))
+    water_height=0.14, downstream_length=0.5, wall_height=0.15, span=0.0, mirror=True))
 
 DEFAULTS = {"scene.end_time": 0.4, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.00125,
             "solid.density": 1100.0, "solid.young_modulus": 12.0e6, "solid.poisson_ratio": 0.4,
