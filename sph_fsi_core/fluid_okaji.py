@@ -1,9 +1,10 @@
 """Incompressible fluid by iterative density correction (Okaji 2002, as used by Satake et al. sec. 2.2): the passes.
 
-Each function is one pass over the fluid particles (targets) and their neighbours: fluid neighbours from a full
-list (every pair in both rows, the particle's own pair included, so a pass is a race-free gather under prange)
-and wall neighbours from a second list whose sources are the fixed wall particles. The step driver that calls
-them in order is fluid_stepper.py.
+Each function is one pass over the fluid particles (targets) and their neighbours: fluid neighbours from a half
+list (each pair once, b > a, the particle's own pair not listed), evaluated once per pair and added to both
+particles through per-chunk buffers `buf` (chunks, N, 3) (no write races under prange; a second loop sums the
+chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. The step driver
+that calls them in order is fluid_stepper.py.
 
 Choices where the paper is open (docs/method.md, "Fluid"):
 
@@ -45,46 +46,60 @@ def _image(d, period, half_period):
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho, p,
-                      p_over_rho2, f_fluid, f_wall):
-    """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions; then, per particle,
-    eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0), and p_a / rho_a^2 for eq. (2).
+                      p_over_rho2, f_fluid, f_wall, buf):
+    """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions (own pair included,
+    W(0) = 1 / (pi h^3)); then, per particle, eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0),
+    and p_a / rho_a^2 for eq. (2).
 
     Also caches F_ab = (dW/dr)/r per pair (`f_fluid`, `f_wall`, aligned with the lists' `index`), for the
     pressure-gradient and viscous passes at the same positions. (Eq. (7) rides along because it needs only the
     particle's own density: one parallel region less per iteration.)
     """
+    n = pos.shape[0]
+    chunks = buf.shape[0]
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
     support2 = 4.0 * h * h
     px, py, pz = period[0], period[1], period[2]
     hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
-    for a in prange(pos.shape[0]):
-        xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+    for c in prange(chunks):
+        out = buf[c]
+        for a in range(n):
+            out[a, 0] = 0.0
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+            ma = mass[a]
+            s = ma * sigma
+            for k in range(fstart[a], fstart[a + 1]):
+                b = findex[k]
+                dx = _image(xa - pos[b, 0], px, hx)
+                dy = _image(ya - pos[b, 1], py, hy)
+                dz = _image(za - pos[b, 2], pz, hz)
+                r2 = dx * dx + dy * dy + dz * dz
+                if r2 >= support2:      # in the list's skin: no contribution
+                    f_fluid[k] = 0.0
+                    continue
+                w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+                s += mass[b] * w
+                out[b, 0] += ma * w
+                f_fluid[k] = f
+            for k in range(wstart[a], wstart[a + 1]):
+                b = windex[k]
+                dx = _image(xa - wall_pos[b, 0], px, hx)
+                dy = _image(ya - wall_pos[b, 1], py, hy)
+                dz = _image(za - wall_pos[b, 2], pz, hz)
+                r2 = dx * dx + dy * dy + dz * dz
+                if r2 >= support2:
+                    f_wall[k] = 0.0
+                    continue
+                w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+                s += wall_mass[b] * w
+                f_wall[k] = f
+            out[a, 0] += s
+    for a in prange(n):
         s = 0.0
-        for k in range(fstart[a], fstart[a + 1]):
-            b = findex[k]
-            dx = _image(xa - pos[b, 0], px, hx)
-            dy = _image(ya - pos[b, 1], py, hy)
-            dz = _image(za - pos[b, 2], pz, hz)
-            r2 = dx * dx + dy * dy + dz * dz
-            if r2 >= support2:      # in the list's skin: no contribution
-                f_fluid[k] = 0.0
-                continue
-            w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-            s += mass[b] * w
-            f_fluid[k] = f
-        for k in range(wstart[a], wstart[a + 1]):
-            b = windex[k]
-            dx = _image(xa - wall_pos[b, 0], px, hx)
-            dy = _image(ya - wall_pos[b, 1], py, hy)
-            dz = _image(za - wall_pos[b, 2], pz, hz)
-            r2 = dx * dx + dy * dy + dz * dz
-            if r2 >= support2:
-                f_wall[k] = 0.0
-                continue
-            w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-            s += wall_mass[b] * w
-            f_wall[k] = f
+        for c in range(chunks):
+            s += buf[c, a, 0]
         rho[a] = s
         pa = c2 * max(s - rho0, 0.0)
         p[a] = pa
@@ -136,40 +151,69 @@ def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, w
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
-                          wstart, windex, f_wall, period, dt2, disp, accumulated):
+                          wstart, windex, f_wall, period, dt2, disp, accumulated, buf):
     """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
 
         dv_a/dt = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab,    grad_a W_ab = F_ab (r_a - r_b),
 
     wall neighbours with their extrapolated pressure (module docstring). F_ab from the density pass at the same
-    positions. Writes `disp` only (Jacobi: every particle sees its neighbours where they were), and adds this
-    iteration's p_a to the step's pressure sum `accumulated` (the pressure output, module docstring).
+    positions; a fluid pair's term is evaluated once and given to both particles (grad_b W_ba = -grad_a W_ab), so
+    fluid pairs change no momentum. Writes `disp` only (Jacobi: every particle sees its neighbours where they
+    were), and adds this iteration's p_a to the step's pressure sum `accumulated` (the pressure output, module
+    docstring).
     """
+    n = pos.shape[0]
+    chunks = buf.shape[0]
     px, py, pz = period[0], period[1], period[2]
     hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
-    for a in prange(pos.shape[0]):
-        xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-        qa = p_over_rho2[a]
-        ax = 0.0
-        ay = 0.0
-        az = 0.0
-        for k in range(fstart[a], fstart[a + 1]):
-            b = findex[k]
-            c = mass[b] * (qa + p_over_rho2[b]) * f_fluid[k]
-            if c != 0.0:
-                ax += c * _image(xa - pos[b, 0], px, hx)
-                ay += c * _image(ya - pos[b, 1], py, hy)
-                az += c * _image(za - pos[b, 2], pz, hz)
-        for k in range(wstart[a], wstart[a + 1]):
-            b = windex[k]
-            c = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
-            if c != 0.0:
-                ax += c * _image(xa - wall_pos[b, 0], px, hx)
-                ay += c * _image(ya - wall_pos[b, 1], py, hy)
-                az += c * _image(za - wall_pos[b, 2], pz, hz)
-        disp[a, 0] = -dt2 * ax
-        disp[a, 1] = -dt2 * ay
-        disp[a, 2] = -dt2 * az
+    for c in prange(chunks):
+        out = buf[c]
+        for a in range(n):
+            out[a, 0] = 0.0
+            out[a, 1] = 0.0
+            out[a, 2] = 0.0
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+            qa = p_over_rho2[a]
+            ma = mass[a]
+            ax = 0.0
+            ay = 0.0
+            az = 0.0
+            for k in range(fstart[a], fstart[a + 1]):
+                b = findex[k]
+                coef = (qa + p_over_rho2[b]) * f_fluid[k]
+                if coef != 0.0:
+                    dx = coef * _image(xa - pos[b, 0], px, hx)
+                    dy = coef * _image(ya - pos[b, 1], py, hy)
+                    dz = coef * _image(za - pos[b, 2], pz, hz)
+                    mb = mass[b]
+                    ax += mb * dx
+                    ay += mb * dy
+                    az += mb * dz
+                    out[b, 0] -= ma * dx
+                    out[b, 1] -= ma * dy
+                    out[b, 2] -= ma * dz
+            for k in range(wstart[a], wstart[a + 1]):
+                b = windex[k]
+                coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
+                if coef != 0.0:
+                    ax += coef * _image(xa - wall_pos[b, 0], px, hx)
+                    ay += coef * _image(ya - wall_pos[b, 1], py, hy)
+                    az += coef * _image(za - wall_pos[b, 2], pz, hz)
+            out[a, 0] += ax
+            out[a, 1] += ay
+            out[a, 2] += az
+    for a in prange(n):
+        sx = 0.0
+        sy = 0.0
+        sz = 0.0
+        for c in range(chunks):
+            sx += buf[c, a, 0]
+            sy += buf[c, a, 1]
+            sz += buf[c, a, 2]
+        disp[a, 0] = -dt2 * sx
+        disp[a, 1] = -dt2 * sy
+        disp[a, 2] = -dt2 * sz
         accumulated[a] += p[a]
 
 
@@ -197,40 +241,62 @@ def velocity_from_displacement(pos, pos_old, dt, vel):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu, dt, vel_out):
+def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu, dt, vel_out, buf):
     """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
 
         v_a = v*_a + dt sum_b m_b (mu_a + mu_b) / (rho_a rho_b) (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab,
 
     mu = rho nu, v_ab = v*_a - v*_b; r_ab . grad_a W_ab = F_ab r_ab^2 < 0, so the sum diffuses momentum and
-    conserves it pair by pair. Fluid neighbours only: the walls are free-slip, because the real boundary layer,
-    sqrt(nu t) ~ 0.4 mm at t = 0.2 s, is thinner than any particle spacing used here and a no-slip wall would
-    spread it over 2h. Writes `vel_out` (Jacobi).
+    conserves it pair by pair (each pair evaluated once, given to both). Fluid neighbours only: the walls are
+    free-slip, because the real boundary layer, sqrt(nu t) ~ 0.4 mm at t = 0.2 s, is thinner than any particle
+    spacing used here and a no-slip wall would spread it over 2h. Writes `vel_out` (Jacobi).
     """
+    n = pos.shape[0]
+    chunks = buf.shape[0]
     eta2 = 0.01 * h * h
     px, py, pz = period[0], period[1], period[2]
     hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
-    for a in prange(pos.shape[0]):
-        xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-        mua = rho[a] * nu
-        sx = 0.0
-        sy = 0.0
-        sz = 0.0
-        for k in range(fstart[a], fstart[a + 1]):
-            b = findex[k]
-            if b == a or f_fluid[k] == 0.0:
-                continue
-            dx = _image(xa - pos[b, 0], px, hx)
-            dy = _image(ya - pos[b, 1], py, hy)
-            dz = _image(za - pos[b, 2], pz, hz)
-            r2 = dx * dx + dy * dy + dz * dz
-            c = mass[b] * (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
-            sx += c * (vel[a, 0] - vel[b, 0])
-            sy += c * (vel[a, 1] - vel[b, 1])
-            sz += c * (vel[a, 2] - vel[b, 2])
-        vel_out[a, 0] = vel[a, 0] + dt * sx
-        vel_out[a, 1] = vel[a, 1] + dt * sy
-        vel_out[a, 2] = vel[a, 2] + dt * sz
+    for c in prange(chunks):
+        out = buf[c]
+        for a in range(n):
+            out[a, 0] = 0.0
+            out[a, 1] = 0.0
+            out[a, 2] = 0.0
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+            mua = rho[a] * nu
+            ma = mass[a]
+            sx = 0.0
+            sy = 0.0
+            sz = 0.0
+            for k in range(fstart[a], fstart[a + 1]):
+                if f_fluid[k] == 0.0:
+                    continue
+                b = findex[k]
+                dx = _image(xa - pos[b, 0], px, hx)
+                dy = _image(ya - pos[b, 1], py, hy)
+                dz = _image(za - pos[b, 2], pz, hz)
+                r2 = dx * dx + dy * dy + dz * dz
+                coef = (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
+                tx = coef * (vel[a, 0] - vel[b, 0])
+                ty = coef * (vel[a, 1] - vel[b, 1])
+                tz = coef * (vel[a, 2] - vel[b, 2])
+                mb = mass[b]
+                sx += mb * tx
+                sy += mb * ty
+                sz += mb * tz
+                out[b, 0] -= ma * tx
+                out[b, 1] -= ma * ty
+                out[b, 2] -= ma * tz
+            out[a, 0] += sx
+            out[a, 1] += sy
+            out[a, 2] += sz
+    for a in prange(n):
+        for k in range(3):
+            s = 0.0
+            for c in range(chunks):
+                s += buf[c, a, k]
+            vel_out[a, k] = vel[a, k] + dt * s
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)

@@ -18,7 +18,7 @@ times its relative compression, so what sets the iteration's stability and speed
 fluid.correction_coefficient = 0 (the default) takes c = kappa h / dt with kappa = fluid.correction_kappa, so the
 iteration behaves the same at any dt; a positive value fixes c in m/s (then a large dt can make it unstable).
 
-Neighbour lists: fluid-fluid (full), fluid-wall, and wall-fluid (for the wall pressure; only wall particles within
+Neighbour lists: fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall pressure; only wall particles within
 reach of the water's bounding box), cutoff 2h + skin, built at r* when some particle has moved more than half the
 skin since the last build and reused by every iteration of the step (and by later steps while valid); every
 position correction measures how far particles have moved since the build, and the loop returns for a rebuild
@@ -29,6 +29,7 @@ Pressure output: FluidState.pressure is the sum of the step's iteration pressure
 import math
 from typing import NamedTuple
 
+import numba
 import numpy as np
 from numba import njit
 
@@ -55,7 +56,7 @@ class StepReport(NamedTuple):
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
                     wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0,
                     c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
-                    moved2):
+                    moved2, buf):
     """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
     Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
@@ -65,7 +66,7 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
     it = it_start
     while True:
         summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho,
-                          p, p_over_rho2, f_fluid, f_wall)
+                          p, p_over_rho2, f_fluid, f_wall, buf)
         emax, emean = compression_error(rho, rho0)
         err = emean if on_mean else emax
         if it >= min_iterations and err <= tolerance:
@@ -75,7 +76,7 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
         if wall_pos.shape[0] > 0:
             wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2)
         pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
-                              wall_p_over_rho2, wstart, windex, f_wall, period, dt2, disp, accumulated)
+                              wall_p_over_rho2, wstart, windex, f_wall, period, dt2, disp, accumulated, buf)
         apply_displacement(pos, disp, total, pos_at_build, moved2)
         it += 1
         if _largest(moved2) > half_skin * half_skin:
@@ -103,7 +104,8 @@ class FluidSolver:
         n = fluid.count
         radius = SUPPORT_RADIUS_IN_H * self.h
         self.skin = float(skin)
-        self.fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        # half list: each fluid pair once (fluid_okaji.py), which halves the pair work of every pass and the build
+        self.fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi, half=True)
         self.wall_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
         self.wall_fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
         self.wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
@@ -118,6 +120,7 @@ class FluidSolver:
         self.p_over_rho2 = np.zeros(n)
         self.vel_work = np.zeros((n, 3))
         self.moved2 = np.zeros(n)
+        self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 3))   # per-chunk pair accumulators
         self.f_fluid = np.zeros(0)
         self.f_wall = np.zeros(0)
         self.builds = 0
@@ -179,7 +182,7 @@ class FluidSolver:
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
                           self.period, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2, self.f_fluid,
-                          self.f_wall)
+                          self.f_wall, self.buf)
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
@@ -222,7 +225,7 @@ class FluidSolver:
                 self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
                 wfstart, wfindex, self.period, self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean,
                 self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
-                fl.correction_displacement, self.moved2)
+                fl.correction_displacement, self.moved2, self.buf)
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it
@@ -232,7 +235,7 @@ class FluidSolver:
         velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
         if self.nu > 0.0:
             viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period, self.h,
-                             self.nu, dt, self.vel_work)
+                             self.nu, dt, self.vel_work, self.buf)
             fl.vel[:] = self.vel_work
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)
