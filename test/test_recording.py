@@ -427,3 +427,29 @@ def test_gate_scene_mcap_three_readers(tmp_path):
         np.testing.assert_array_equal(pts["von_mises"][n_fluid:],
                                       von_mises(last["solid_stress_deviatoric"][m]).astype(np.float32))
     assert [w[0] for _, w in sorted(c[f"{NS}/particles"])] == [n_fluid + int(m.sum())] * 5
+
+
+def test_divergence_closes_whole_files_saying_so(tmp_path):
+    """A run that diverges (the watchdog's speed limit below the beam's initial tip speed, 0.01 m/s): exit 3, both
+    files whole, frames up to the last good state, the final status 'diverged'."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    mcap, rrd = tmp_path / "d.mcap", tmp_path / "d.rrd"
+    r = run_cli(["run", "cantilever", *SMALL, "--set", "watchdog.max_speed=0.005", "--end-time", "0.01",
+                 "--record-interval", "0", "--mcap", str(mcap), "--rrd", str(rrd), "--out", str(tmp_path / "o")],
+                timeout=600)
+    assert r.returncode == 3, r.stderr
+    statuses = []
+    with open(mcap, "rb") as fh:
+        reader = make_reader(fh, decoder_factories=[DecoderFactory()])
+        assert reader.get_summary() is not None
+        for _s, ch, _m, msg in reader.iter_decoded_messages(log_time_order=True):
+            if ch.topic == "/diagnostics":
+                statuses.append(msg.status[0].message)
+    assert statuses == ["running", "diverged"]        # the t = 0 frame, then the end; nothing from the bad state
+    assert subprocess.run([RERUN, "rrd", "verify", str(rrd)], env=env(), capture_output=True,
+                          timeout=120).returncode == 0
+    data, _ = rrd_contents(rrd)
+    assert sorted(data["/world/solid"]) == [0]
+    (status,) = data["/status"].values()
+    assert status["TextLog:text"][0].startswith("diverged at t = ")
