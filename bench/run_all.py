@@ -35,8 +35,8 @@ def main(argv=None):
               "(density, pressure, wall pressure, position correction); the time is that of whole steps "
               "(rebuilds, viscosity, watchdog included). Load: the machine's 1-minute load average during the run "
               "(2 cores; above 2 means the run shared them).", "",
-              "| case | fluid particles | wall particles | pairs per particle (each once) | steps | iterations / step | "
-              "seconds | M particle-iterations/s | M particle-steps/s | threads | load |",
+              "| case | fluid particles | wall particles | pairs per particle (each once) | steps | "
+              "iterations / step | seconds | M particle-iterations/s | M particle-steps/s | threads | load |",
               "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in fluid:
         lines.append(f"| {r['case']} | {r['fluid_particles']} | {r['wall_particles']} | {r['pairs_per_particle']} | "
