@@ -31,13 +31,13 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
-from .fluid_okaji import (apply_displacement, compression_error, gravity_and_predictor, pressure_displacement,
-                          summation_density, velocity_from_displacement, viscous_velocity, wall_pressure,
-                          wrap_periodic)
+from .fluid_okaji import (_image, apply_displacement, compression_error, gravity_and_predictor,
+                          pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
+                          wall_pressure, wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
-from .neighbours import NeighbourList
+from .neighbours import NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
 
@@ -92,6 +92,71 @@ def _largest(x):
     return m
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index,
+                        fill):
+    """neighbours._scan_pairs with the sources' positions in cell order (`sorted_sources` = sources[order], read
+    sequentially cell by cell instead of gathered) and a division-free minimum image (fluid_okaji._image: the
+    fluid's positions are wrapped into the periodic box after every step and move less than the skin within one,
+    so one shift by the period is always enough). Counts per target (fill=False) or writes them into `index`."""
+    cutoff2 = cutoff * cutoff
+    px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
+    for a in prange(targets.shape[0]):
+        cx = np.empty(3, dtype=np.int64)
+        cy = np.empty(3, dtype=np.int64)
+        cz = np.empty(3, dtype=np.int64)
+        nx = _wrapped_cells(tcell[a, 0], ncell[0], px > 0.0, cx)
+        ny = _wrapped_cells(tcell[a, 1], ncell[1], py > 0.0, cy)
+        nz = _wrapped_cells(tcell[a, 2], ncell[2], pz > 0.0, cz)
+        xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
+        count = 0
+        slot = start[a] if fill else 0
+        for ix in range(nx):
+            for iy in range(ny):
+                for iz in range(nz):
+                    lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
+                    for s in range(cell_start[lid], cell_start[lid + 1]):
+                        b = order[s]
+                        if half and b <= a:
+                            continue
+                        dx = _image(xa - sorted_sources[s, 0], px, hx)
+                        dy = _image(ya - sorted_sources[s, 1], py, hy)
+                        dz = _image(za - sorted_sources[s, 2], pz, hz)
+                        if dx * dx + dy * dy + dz * dz < cutoff2:
+                            if fill:
+                                index[slot] = b
+                                slot += 1
+                            count += 1
+        if not fill:
+            start[a + 1] = count
+
+
+class FluidNeighbourList(NeighbourList):
+    """NeighbourList whose build uses _scan_wrapped_pairs (sources read in cell order, no floor in the minimum
+    image); the same lists in the same order, the same staleness test."""
+
+    def build(self, targets, sources):
+        if self.half and sources is not targets:
+            raise ValueError("a half neighbour list needs targets and sources to be the same array")
+        lo, cell_size, ncell = _grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
+        scell = _cell_coordinates(sources, lo, cell_size, ncell, self.period)
+        tcell = scell if sources is targets else _cell_coordinates(targets, lo, cell_size, ncell, self.period)
+        cell_start, order = _bin_sources(scell, ncell)
+        sorted_sources = np.ascontiguousarray(sources[order])
+        start = np.zeros(len(targets) + 1, dtype=np.int64)
+        _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
+                            start, np.zeros(0, dtype=np.int32), False)
+        np.cumsum(start, out=start)
+        index = np.empty(start[-1], dtype=np.int32)
+        _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff,
+                            self.half, start, index, True)
+        self.start, self.index = start, index
+        self._targets_at_build = targets.copy()
+        self._sources_at_build = None if sources is targets else sources.copy()
+        self.builds += 1
+
+
 class FluidSolver:
     """The fluid's work arrays, neighbour lists and settings; `step(dt)` advances the fluid by one step."""
 
@@ -105,9 +170,10 @@ class FluidSolver:
         radius = SUPPORT_RADIUS_IN_H * self.h
         self.skin = float(skin)
         # half list: each fluid pair once (fluid_okaji.py), which halves the pair work of every pass and the build
-        self.fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi, half=True)
-        self.wall_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
-        self.wall_fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        self.fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
+                                                   half=True)
+        self.wall_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        self.wall_fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
         self.wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         self.wall_mass = walls.mass if walls is not None else np.zeros(0)
         self.wall_p_over_rho2 = np.zeros(len(self.wall_mass))

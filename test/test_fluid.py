@@ -233,3 +233,28 @@ def test_periodic_or_closed_span_and_refusals():
         load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.span_layers=5"])
     with pytest.raises(SceneError, match="geometry.wall_layers"):
         load_scene("dam_break", ["numerics.spacing=0.005715", "geometry.wall_layers=2"])
+
+
+@pytest.mark.parametrize("half", [True, False])
+def test_fluid_neighbour_list_equals_the_general_one(half):
+    """The fluid's list builder (sources in cell order, division-free minimum image) gives exactly the general
+    NeighbourList's rows, on a jittered periodic block with particles a little outside the box."""
+    from sph_fsi_core.fluid_stepper import FluidNeighbourList
+    from sph_fsi_core.neighbours import NeighbourList
+    fluid, period = _periodic_block(9, jitter=0.3, seed=3)
+    period[0] = period[2] = 0.0
+    pos = fluid.pos
+    pos[:5, 1] -= 0.2 * DP        # a little below the periodic box's start
+    cutoff_args = (2.0 * H, 0.1 * H)
+    general = NeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period, half=half)
+    fast = FluidNeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period, half=half)
+    general.build(pos, pos)
+    fast.build(pos, pos)
+    assert general.pairs > 10 * len(pos) and np.array_equal(general.start, fast.start)
+    assert np.array_equal(general.index, fast.index)
+    walls = tank.lattice(9, 9, 2, DP, offset=(0.0, 0.0, -2 * DP))
+    general.half = fast.half = False
+    general.build(pos, walls)
+    fast.build(pos, walls)
+    assert general.pairs > 0 and np.array_equal(general.start, fast.start)
+    assert np.array_equal(general.index, fast.index)
