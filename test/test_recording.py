@@ -453,3 +453,35 @@ def test_divergence_closes_whole_files_saying_so(tmp_path):
     assert sorted(data["/world/solid"]) == [0]
     (status,) = data["/status"].values()
     assert status["TextLog:text"][0].startswith("diverged at t = ")
+
+
+def test_rerun_connect_streams_live(tmp_path):
+    """--rerun-connect: a Rerun gRPC server (`rerun --port P --save FILE`, headless) receives every frame."""
+    import socket
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    saved = tmp_path / "live.rrd"
+    server = subprocess.Popen([RERUN, "--port", str(port), "--save", str(saved)], env=env(),
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            with socket.socket() as s:
+                if s.connect_ex(("127.0.0.1", port)) == 0:
+                    break
+            time.sleep(0.1)
+        r = run_cli(["run", "cantilever", *SMALL, "--end-time", "0.005", "--record-interval", "0.001",
+                     "--rerun-connect", f"127.0.0.1:{port}", "--out", str(tmp_path / "o")], timeout=600)
+        assert r.returncode == 0, r.stderr
+        time.sleep(1.0)
+    finally:
+        server.send_signal(signal.SIGINT)
+        try:
+            server.wait(30)
+        except subprocess.TimeoutExpired:
+            server.kill()
+    data, static = rrd_contents(saved)
+    assert sorted(data["/world/solid"]) == [round(k * 1e6) for k in range(6)]
+    assert len(static["/world/walls"]["Points3D:positions"][0]) == CLAMP
+    assert data["/status"][round(5e6)]["TextLog:text"] == ["finished at t = 0.005 s"]
