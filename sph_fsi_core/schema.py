@@ -134,9 +134,10 @@ SOLID = [
     _p("solid.time_step", 0.0, "s", "Forced solid time step (0: automatic); above the stable limit it is refused",
        low=0.0, high=1.0, rebuild=False),
     _p("solid.xsph_epsilon", 0.5, "1", "XSPH averaging eps of eq. (4)", low=0.0, high=1.0, rebuild=False),
-    _p("solid.gradient_correction", False, "",
-       "Drive Hooke's law with the kernel-corrected velocity gradient L K^-1 (exact for linear fields at free "
-       "surfaces); not in the paper", kind="bool", rebuild=False),
+    _p("solid.velocity_gradient", "quadratic", "",
+       "Velocity gradient behind Hooke's law and the pressure: 'sph' Gray 2001's sum (the paper), 'linear' the "
+       "kernel-corrected L K^-1, 'quadratic' a quadratic least-squares fit (exact for bending at free surfaces; "
+       "see docs/method.md)", kind="str", choices=("sph", "linear", "quadratic")),
     _p("solid.artificial_viscosity_alpha", 0.1, "1", "Monaghan artificial viscosity alpha (linear term)", low=0.0,
        high=10.0, rebuild=False),
     _p("solid.artificial_viscosity_beta", 0.0, "1", "Monaghan artificial viscosity beta (quadratic term)",

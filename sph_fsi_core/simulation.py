@@ -19,6 +19,7 @@ from .neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
 from .solid_gray2001 import material_constants, strain_energy
+from .solid_mls import MOMENT_COUNT, mls_fit_rows
 from .solid_stepper import SolidWork, make_params, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
 from .scenes.tank import lattice_density_scale
@@ -109,7 +110,7 @@ class Simulation:
             beta=v["solid.artificial_viscosity_beta"], art_eps=v["solid.artificial_stress_epsilon"],
             art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
             skin=v["numerics.neighbour_skin"] * self.h,
-            gradient_correction=v["solid.gradient_correction"])
+            velocity_gradient=v["solid.velocity_gradient"])
         forced = v["solid.time_step"]
         limit = self._stable_dt(v["solid.cfl"], c0)
         if forced > limit:
@@ -151,13 +152,18 @@ class Simulation:
         nb.build(s.pos, s.pos)
         wk.resize_pairs(nb.pairs)
         pair_kernel_values(s.pos, s.pos, nb.start, nb.index, self.h, self.period, wk.w, wk.f)
+        if self.solid_params.gradient_order == 2:
+            if wk.moment_buf.shape[:2] != (wk.buf.shape[0], s.count):
+                wk.moment_buf = np.zeros((wk.buf.shape[0], s.count, MOMENT_COUNT))
+            mls_fit_rows(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows, wk.mls_order,
+                         wk.moment_buf)
         self.neighbour_builds += 1
 
     def _solid_acceleration(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
-                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv)
+                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -251,7 +257,7 @@ class Simulation:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
                                s.acc, ext_acc, nb.start, nb.index, self.period, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
-                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv)
+                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()

@@ -25,6 +25,10 @@ from .kernels import cubic_spline_w
 from .neighbours import max_displacement
 from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
                              xsph_velocity_and_gradient)
+from .solid_mls import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
+
+# solid.velocity_gradient -> SolidParams.gradient_order
+GRADIENT_ORDERS = {"sph": 0, "linear": 1, "quadratic": 2}
 
 
 class SolidParams(NamedTuple):
@@ -43,15 +47,15 @@ class SolidParams(NamedTuple):
     gy: float
     gz: float
     half_skin: float
-    gradient_correction: bool   # Hooke's law from the kernel-corrected velocity gradient (not in the paper)
+    gradient_order: int    # 0: Gray's SPH gradient (the paper); 1: kernel-corrected L K^-1; 2: quadratic fit
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
-                skin, gradient_correction=False):
+                skin, velocity_gradient="sph"):
     return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
                        beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
-                       half_skin=0.5 * skin, gradient_correction=bool(gradient_correction))
+                       half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient])
 
 
 class SolidWork:
@@ -72,6 +76,9 @@ class SolidWork:
         self.eig_work[:, 3:6] = np.eye(3)   # eigenvector guesses, warm-started from step to step
         self.kinv = np.zeros((n, 3, 3))
         self.kinv[:] = np.eye(3)            # kernel-gradient correction K^-1 (identity until first computed)
+        self.mls_rows = np.zeros((n, 3, N_BASIS))   # quadratic fit: rows 0..2 of M^-1 (solid_mls.py)
+        self.mls_order = np.zeros(n, dtype=np.int64)
+        self.moment_buf = np.zeros((0, 0, 0))       # allocated on first use (chunks, N, 45)
         self.w = np.zeros(0)
         self.f = np.zeros(0)
 
@@ -83,14 +90,18 @@ class SolidWork:
 
 @njit(cache=True, fastmath=False, error_model="numpy")
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv):
+                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
-    momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
-                  prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
-                  prm.gradient_correction, kinv)
+    if prm.gradient_order == 2:
+        momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
+                          prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f, buf)
+    else:
+        momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
+                      prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
+                      prm.gradient_order == 1, kinv)
     has_ext = ext_acc.shape[0] == acc.shape[0]
     for a in range(acc.shape[0]):
         if not movable[a]:
@@ -116,7 +127,7 @@ def _max_norm(v):
 @njit(cache=True, fastmath=False, error_model="numpy")
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
-                   w, f, buf, kinv):
+                   w, f, buf, kinv, mls_rows):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -132,9 +143,17 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             if movable[a]:
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
-        xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v, buf,
-                                   prm.gradient_correction, kinv)
-        continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf)
+        if prm.gradient_order == 2:
+            xsph_velocity_and_mls_gradient(pos, period, mass, rho, vel, start, index, w, prm.h, prm.xsph_eps,
+                                           mls_rows, vhat, grad_v, buf)
+        else:
+            xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v,
+                                       buf, prm.gradient_order == 1, kinv)
+        if prm.gradient_order == 0:
+            continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf)
+        else:
+            # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
+            velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         for a in range(n):
             rho[a] += dt * drho[a]
@@ -144,7 +163,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     pos[a, k] += dt * vhat[a, k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv)
+                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows)
         for a in range(n):
             if movable[a]:
                 for k in range(3):

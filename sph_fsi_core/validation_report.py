@@ -48,7 +48,8 @@ def _cantilever_extra(rungs, summaries):
     lines = []
     for r in rungs:
         s = summaries.get(r.key)
-        if s is None or r.case not in ("cantilever", "cantilever_ladder", "cantilever_length"):
+        if s is None or r.case not in ("cantilever", "cantilever_ladder", "cantilever_length",
+                                                 "cantilever_paper_scheme"):
             continue
         if s.get("frequency_hz") is None:
             continue
@@ -327,7 +328,13 @@ def _plots(out_dir, rungs, summaries):
         ax.plot(lengths, [row["fe3d_1mm_Hz"] for row in table], "k-", label="3D elasticity (FE, 1 mm)")
         ax.errorbar([length * 1e3 for length, _ in sweep], [s["frequency_hz"] for _, s in sweep],
                     yerr=[s["frequency_uncertainty_hz"] for _, s in sweep], fmt="o", color="C3",
-                    label="sph_fsi, dp = 1 mm")
+                    label="sph_fsi, dp = 1 mm (quadratic-fit gradient, default)")
+        paper = [(summaries[r.key]["settings"]["geometry.length"], summaries[r.key]) for r in rungs
+                 if r.case == "cantilever_paper_scheme" and r.key in summaries
+                 and summaries[r.key].get("frequency_hz")]
+        if paper:
+            ax.plot([length * 1e3 for length, _ in paper], [s["frequency_hz"] for _, s in paper], "s",
+                    color="C0", mfc="none", label="sph_fsi, dp = 1 mm, Gray's SPH gradient (the paper's scheme)")
         ax.set_xlabel("beam length L [mm]")
         ax.set_ylabel("first bending frequency [Hz]")
         ax.set_title("Cantilever frequency against length (cf. the paper's Fig. 5)")

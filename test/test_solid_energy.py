@@ -35,13 +35,16 @@ def ratios():
 def test_artificial_viscosity_removes_energy(ratios):
     r0, r01, r1 = ratios[0.0][0], ratios[0.1][0], ratios[1.0][0]
     assert r1 < r01 < 1.0
-    assert r1 < 0.5           # measured 0.17 over four periods at alpha = 1
-    assert r01 < 0.95         # measured 0.82 at alpha = 0.1
+    # measured with the default quadratic-fit gradient: 0.69 at alpha = 1 and 0.957 at alpha = 0.1 over the
+    # periods covered (Gray's SPH gradient, whose spurious shear the viscosity also damps: 0.17 and 0.82)
+    assert r1 < 0.8
+    assert r01 < 0.98
 
 
 def test_inviscid_solid_keeps_its_energy(ratios):
-    # measured: +1.4 % over four periods (the discrete strain energy is not exactly the potential of the SPH
-    # forces, and XSPH moves particles off their momentum velocity); with alpha = 0.1 it loses 18 %
+    # measured: +0.75 % (default quadratic-fit gradient; +1.4 % with Gray's SPH gradient): the discrete strain
+    # energy is the potential of the forces only to first order in the step, and XSPH moves particles off their
+    # momentum velocity
     assert abs(ratios[0.0][0] - 1.0) < 0.03
 
 

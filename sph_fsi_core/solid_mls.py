@@ -1,0 +1,313 @@
+"""Second-order (quadratic moving-least-squares) velocity gradient for the elastic solid, and its paired force.
+
+Not in the paper: an option (`solid.velocity_gradient: quadratic`) that removes the error of the SPH velocity
+gradient at free surfaces. The beam of Satake et al. is 4 particles thick, so every particle sits within the
+kernel radius of a surface, where
+
+- the plain SPH gradient (Gray 2001, eq. (5)'s companion L^ij) turns a rigid rotation into shear strain and
+  underestimates the axial strain of bending (outer fibre: 0.85 dp of 1.5 dp on the paper's lattice), and
+- the kernel-corrected gradient L K^-1 (exact for linear fields) still evaluates the strain of a curved field
+  at the centroid of the particle's one-sided neighbourhood (outer fibre: 1.20 dp of 1.5 dp), so a bent beam
+  comes out 30 % too soft (docs/validation/FINDINGS.md).
+
+Here each particle fits v_b - v_a ~ g . d + d^T H d / 2 over its neighbours with weights V_b W_ab (nine
+unknowns, u = d / h keeps the moment matrix well scaled), which is exact for quadratic velocity fields:
+
+    L_a = sum_b (v_b - v_a) (x) G_ab,   G_ab = V_b W_ab R_a p(u_ab) / h,   R_a = rows 0..2 of M_a^-1,
+    M_a = sum_b V_b W_ab p(u_ab) p(u_ab)^T,  p(u) = (u_x, u_y, u_z, u_x^2/2, u_y^2/2, u_z^2/2, u_x u_y, u_x u_z, u_y u_z).
+
+Where the quadratic fit is not determined (fewer than three particle layers in some direction) the particle
+falls back to the linear fit (first 3 x 3 block). The force that goes with this strain rate is the one whose
+power is the stress power sum_a V_a sigma_a : L_a (variational consistency, as Bonet & Lok 1999 do for the
+linear correction): the pair (a, b) exchanges F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba, +F on a and -F on b,
+so momentum is conserved to round-off whatever G is. R_a is refreshed with each neighbour-list build; between
+builds the particles move less than half the Verlet skin.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernels import cubic_spline_w, cubic_spline_wf
+from .neighbours import minimum_image
+from .tensors import XX, XY, XZ, YY, YZ, ZZ
+
+N_BASIS = 9
+MOMENT_COUNT = N_BASIS * (N_BASIS + 1) // 2   # upper triangle of M, row by row
+# a quadratic fit whose Cholesky pivot falls below this fraction of its diagonal entry is not determined
+_PIVOT_TOLERANCE = 1e-6
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _basis(ux, uy, uz, p):
+    p[0] = ux
+    p[1] = uy
+    p[2] = uz
+    p[3] = 0.5 * ux * ux
+    p[4] = 0.5 * uy * uy
+    p[5] = 0.5 * uz * uz
+    p[6] = ux * uy
+    p[7] = ux * uz
+    p[8] = uy * uz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _cholesky_solve_rows(m, rows, nb):
+    """Rows 0..2 of m^-1 for the leading nb x nb block of the symmetric m (destroyed); False if not SPD enough."""
+    for j in range(nb):
+        d = m[j, j]
+        for k in range(j):
+            d -= m[j, k] * m[j, k]
+        if d <= _PIVOT_TOLERANCE * m[j, j] or d <= 0.0:
+            return False
+        d = math.sqrt(d)
+        m[j, j] = d
+        for i in range(j + 1, nb):
+            s = m[i, j]
+            for k in range(j):
+                s -= m[i, k] * m[j, k]
+            m[i, j] = s / d
+    # solve L L^T x = e_r for r = 0, 1, 2; m^-1 is symmetric, so column r is row r
+    for r in range(3):
+        for i in range(nb):
+            s = 1.0 if i == r else 0.0
+            for k in range(i):
+                s -= m[i, k] * rows[r, k]
+            rows[r, i] = s / m[i, i]
+        for i in range(nb - 1, -1, -1):
+            s = rows[r, i]
+            for k in range(i + 1, nb):
+                s -= m[k, i] * rows[r, k]
+            rows[r, i] = s / m[i, i]
+    for r in range(3):
+        for i in range(nb, N_BASIS):
+            rows[r, i] = 0.0
+    return True
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_buf):
+    """R_a (N, 3, 9): rows 0..2 of the inverse weighted moment matrix M_a; order[a] = 2 (quadratic) or 1 (linear).
+
+    One pass over the half list into per-chunk moment sums `moment_buf` (chunks, N, 45), then one small
+    Cholesky solve per particle. Call after every neighbour-list build.
+    """
+    n = pos.shape[0]
+    chunks = moment_buf.shape[0]
+    inv_h = 1.0 / h
+    for c in prange(chunks):
+        out = moment_buf[c]
+        out[:, :] = 0.0
+        p = np.empty(N_BASIS)
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            va = mass[a] / rho[a]
+            for s in range(start[a], start[a + 1]):
+                b = index[s]
+                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
+                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
+                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+                wab = cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
+                _basis(ux, uy, uz, p)
+                wa = mass[b] / rho[b] * wab
+                wb = va * wab
+                k = 0
+                for i in range(N_BASIS):
+                    for j in range(i, N_BASIS):
+                        # p(-u) p(-u)^T differs from p(u) p(u)^T by the sign of linear x quadratic entries
+                        pp = p[i] * p[j]
+                        out[a, k] += wa * pp
+                        out[b, k] += wb * (-pp if (i < 3) != (j < 3) else pp)
+                        k += 1
+    for a in prange(n):
+        m = np.empty((N_BASIS, N_BASIS))
+        k = 0
+        for i in range(N_BASIS):
+            for j in range(i, N_BASIS):
+                total = 0.0
+                for c in range(chunks):
+                    total += moment_buf[c, a, k]
+                m[i, j] = total
+                m[j, i] = total
+                k += 1
+        saved = m[:3, :3].copy()
+        if _cholesky_solve_rows(m, rows[a], N_BASIS):
+            order[a] = 2
+            continue
+        m[:3, :3] = saved
+        if _cholesky_solve_rows(m, rows[a], 3):
+            order[a] = 1
+        else:   # an isolated particle: no gradient at all
+            order[a] = 0
+            for r in range(3):
+                for i in range(N_BASIS):
+                    rows[a, r, i] = 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _pair_weights(rows_a, ux, uy, uz, sign, scale, g):
+    """g = scale * R_a p(sign * u): one particle's gradient weights G for the pair (the 1/h and V_b W_ab in scale)."""
+    lx = sign * ux
+    ly = sign * uy
+    lz = sign * uz
+    qxx = 0.5 * ux * ux
+    qyy = 0.5 * uy * uy
+    qzz = 0.5 * uz * uz
+    qxy = ux * uy
+    qxz = ux * uz
+    qyz = uy * uz
+    for r in range(3):
+        g[r] = scale * (rows_a[r, 0] * lx + rows_a[r, 1] * ly + rows_a[r, 2] * lz + rows_a[r, 3] * qxx
+                        + rows_a[r, 4] * qyy + rows_a[r, 5] * qzz + rows_a[r, 6] * qxy + rows_a[r, 7] * qxz
+                        + rows_a[r, 8] * qyz)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def xsph_velocity_and_mls_gradient(pos, period, mass, rho, vel, start, index, w, h, xsph_eps, rows, vhat, grad_v,
+                                   buf):
+    """XSPH velocity, eq. (4), and the quadratic-fit velocity gradient L_a = sum_b (v_b - v_a) (x) G_ab.
+
+    Half list with per-chunk buffers (chunks, N, >= 12), as xsph_velocity_and_gradient; `w` is the pair cache
+    of kernel values at the current positions.
+    """
+    n = vel.shape[0]
+    chunks = buf.shape[0]
+    inv_h = 1.0 / h
+    for c in prange(chunks):
+        out = buf[c]
+        out[:, 0:12] = 0.0
+        gab = np.empty(3)
+        gba = np.empty(3)
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            va = mass[a] / rho[a]
+            for s in range(start[a], start[a + 1]):
+                b = index[s]
+                vb = mass[b] / rho[b]
+                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
+                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
+                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+                _pair_weights(rows[a], ux, uy, uz, 1.0, vb * w[s] * inv_h, gab)
+                _pair_weights(rows[b], ux, uy, uz, -1.0, va * w[s] * inv_h, gba)
+                dvx = vel[b, 0] - vel[a, 0]
+                dvy = vel[b, 1] - vel[a, 1]
+                dvz = vel[b, 2] - vel[a, 2]
+                k = w[s] / (0.5 * (rho[a] + rho[b]))
+                out[a, 0] += mass[b] * k * dvx
+                out[a, 1] += mass[b] * k * dvy
+                out[a, 2] += mass[b] * k * dvz
+                out[b, 0] -= mass[a] * k * dvx
+                out[b, 1] -= mass[a] * k * dvy
+                out[b, 2] -= mass[a] * k * dvz
+                for j in range(3):
+                    out[a, 3 + j] += dvx * gab[j]
+                    out[a, 6 + j] += dvy * gab[j]
+                    out[a, 9 + j] += dvz * gab[j]
+                    out[b, 3 + j] -= dvx * gba[j]
+                    out[b, 6 + j] -= dvy * gba[j]
+                    out[b, 9 + j] -= dvz * gba[j]
+    for a in prange(n):
+        for k in range(3):
+            acc = 0.0
+            for c in range(chunks):
+                acc += buf[c, a, k]
+            vhat[a, k] = vel[a, k] + xsph_eps * acc
+        for i in range(3):
+            for j in range(3):
+                acc = 0.0
+                for c in range(chunks):
+                    acc += buf[c, a, 3 + 3 * i + j]
+                grad_v[a, i, j] = acc
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def velocity_divergence_rate(rho, grad_v, drho):
+    """Eq. (3) with the fitted gradient: d rho_a/dt = -rho_a tr(L_a)."""
+    for a in prange(rho.shape[0]):
+        drho[a] = -rho[a] * (grad_v[a, 0, 0] + grad_v[a, 1, 1] + grad_v[a, 2, 2])
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
+                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, buf):
+    """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
+
+    Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
+    viscosity and artificial stress keep Gray's pair form m_a m_b (-Pi_ab I + R_ab f_ab^n) . grad_a W_ab.
+    sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair cache (w, f).
+    """
+    eta2 = 0.01 * h * h
+    inv_h = 1.0 / h
+    sigma_k = 1.0 / (math.pi * h * h * h)
+    use_art = art_exponent > 0
+    n = vel.shape[0]
+    chunks = buf.shape[0]
+    for c in prange(chunks):
+        out = buf[c]
+        out[:, 0:3] = 0.0
+        gab = np.empty(3)
+        gba = np.empty(3)
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
+            va = mass[a] / rho[a]
+            for s in range(start[a], start[a + 1]):
+                b = index[s]
+                vb = mass[b] / rho[b]
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                r2 = rx * rx + ry * ry + rz * rz
+                wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, sigma_k)
+                w[s] = wab
+                f[s] = fab
+                ux = -rx * inv_h
+                uy = -ry * inv_h
+                uz = -rz * inv_h
+                _pair_weights(rows[a], ux, uy, uz, 1.0, vb * wab * inv_h, gab)
+                _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, gba)
+                # V sigma = m rho (sigma / rho^2)
+                ka = mass[a] * rho[a]
+                kb = mass[b] * rho[b]
+                sa = sigma_over_rho2[a]
+                sb = sigma_over_rho2[b]
+                fx = (ka * (sa[XX] * gab[0] + sa[XY] * gab[1] + sa[XZ] * gab[2])
+                      - kb * (sb[XX] * gba[0] + sb[XY] * gba[1] + sb[XZ] * gba[2]))
+                fy = (ka * (sa[XY] * gab[0] + sa[YY] * gab[1] + sa[YZ] * gab[2])
+                      - kb * (sb[XY] * gba[0] + sb[YY] * gba[1] + sb[YZ] * gba[2]))
+                fz = (ka * (sa[XZ] * gab[0] + sa[YZ] * gab[1] + sa[ZZ] * gab[2])
+                      - kb * (sb[XZ] * gba[0] + sb[YZ] * gba[1] + sb[ZZ] * gba[2]))
+                txx = tyy = tzz = txy = txz = tyz = 0.0
+                vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
+                if vr < 0.0:
+                    mu = h * vr / (r2 + eta2)
+                    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
+                    txx -= pi_ab
+                    tyy -= pi_ab
+                    tzz -= pi_ab
+                if use_art:
+                    ratio = wab * inv_w_dp
+                    fn = 1.0
+                    for _ in range(art_exponent):
+                        fn *= ratio
+                    txx += (art_stress[a, XX] + art_stress[b, XX]) * fn
+                    tyy += (art_stress[a, YY] + art_stress[b, YY]) * fn
+                    tzz += (art_stress[a, ZZ] + art_stress[b, ZZ]) * fn
+                    txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
+                    txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
+                    tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
+                mm = mass[a] * mass[b]
+                gx = fab * rx
+                gy = fab * ry
+                gz = fab * rz
+                fx += mm * (txx * gx + txy * gy + txz * gz)
+                fy += mm * (txy * gx + tyy * gy + tyz * gz)
+                fz += mm * (txz * gx + tyz * gy + tzz * gz)
+                out[a, 0] += fx / mass[a]
+                out[a, 1] += fy / mass[a]
+                out[a, 2] += fz / mass[a]
+                out[b, 0] -= fx / mass[b]
+                out[b, 1] -= fy / mass[b]
+                out[b, 2] -= fz / mass[b]
+    for a in prange(n):
+        for k in range(3):
+            total = body_acc[k]
+            for c in range(chunks):
+                total += buf[c, a, k]
+            acc[a, k] = total
