@@ -19,7 +19,7 @@ from .neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
 from .solid_gray2001 import material_constants, strain_energy
-from .solid_mls import MOMENT_COUNT, mls_fit_rows
+from .solid_mls import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .solid_stepper import SolidWork, make_params, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
 from .scenes.tank import lattice_density_scale
@@ -157,13 +157,17 @@ class Simulation:
                 wk.moment_buf = np.zeros((wk.buf.shape[0], s.count, MOMENT_COUNT))
             mls_fit_rows(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows, wk.mls_order,
                          wk.moment_buf)
+            if wk.mls_weights.shape[0] != nb.pairs:
+                wk.mls_weights = np.zeros((nb.pairs, 6))
+            mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
+                             wk.mls_weights)
         self.neighbour_builds += 1
 
     def _solid_acceleration(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
-                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows)
+                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -257,7 +261,7 @@ class Simulation:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
                                s.acc, ext_acc, nb.start, nb.index, self.period, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
-                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows)
+                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()

@@ -162,31 +162,22 @@ def _pair_weights(rows_a, ux, uy, uz, sign, scale, g):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
-def xsph_velocity_and_mls_gradient(pos, period, mass, rho, vel, start, index, w, h, xsph_eps, rows, vhat, grad_v,
-                                   buf):
+def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsph_eps, vhat, grad_v, buf):
     """XSPH velocity, eq. (4), and the quadratic-fit velocity gradient L_a = sum_b (v_b - v_a) (x) G_ab.
 
-    Half list with per-chunk buffers (chunks, N, >= 12), as xsph_velocity_and_gradient; `w` is the pair cache
-    of kernel values at the current positions.
+    Half list with per-chunk buffers (chunks, N, >= 12), as xsph_velocity_and_gradient; `w` and `weights`
+    (pairs, 6: G_ab then G_ba) are the pair caches at the current positions (mls_pair_weights, momentum_rate_mls).
     """
     n = vel.shape[0]
     chunks = buf.shape[0]
-    inv_h = 1.0 / h
     for c in prange(chunks):
         out = buf[c]
         out[:, 0:12] = 0.0
-        gab = np.empty(3)
-        gba = np.empty(3)
         for a in range(c * n // chunks, (c + 1) * n // chunks):
-            va = mass[a] / rho[a]
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                vb = mass[b] / rho[b]
-                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-                _pair_weights(rows[a], ux, uy, uz, 1.0, vb * w[s] * inv_h, gab)
-                _pair_weights(rows[b], ux, uy, uz, -1.0, va * w[s] * inv_h, gba)
+                gab = weights[s, 0:3]
+                gba = weights[s, 3:6]
                 dvx = vel[b, 0] - vel[a, 0]
                 dvy = vel[b, 1] - vel[a, 1]
                 dvz = vel[b, 2] - vel[a, 2]
@@ -219,6 +210,22 @@ def xsph_velocity_and_mls_gradient(pos, period, mass, rho, vel, start, index, w,
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
+    """The pair cache `weights` (pairs, 6) = (G_ab, G_ba) at the current positions (after a list build)."""
+    inv_h = 1.0 / h
+    for a in prange(pos.shape[0]):
+        va = mass[a] / rho[a]
+        for s in range(start[a], start[a + 1]):
+            b = index[s]
+            ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
+            uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
+            uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+            wab = cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
+            _pair_weights(rows[a], ux, uy, uz, 1.0, mass[b] / rho[b] * wab * inv_h, weights[s, 0:3])
+            _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, weights[s, 3:6])
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def velocity_divergence_rate(rho, grad_v, drho):
     """Eq. (3) with the fitted gradient: d rho_a/dt = -rho_a tr(L_a)."""
     for a in prange(rho.shape[0]):
@@ -227,12 +234,13 @@ def velocity_divergence_rate(rho, grad_v, drho):
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
 def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, buf):
+                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
     viscosity and artificial stress keep Gray's pair form m_a m_b (-Pi_ab I + R_ab f_ab^n) . grad_a W_ab.
-    sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair cache (w, f).
+    sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair caches (w, f and
+    the weights G_ab, G_ba) for the next step's gradient pass.
     """
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
@@ -243,8 +251,6 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
     for c in prange(chunks):
         out = buf[c]
         out[:, 0:3] = 0.0
-        gab = np.empty(3)
-        gba = np.empty(3)
         for a in range(c * n // chunks, (c + 1) * n // chunks):
             va = mass[a] / rho[a]
             for s in range(start[a], start[a + 1]):
@@ -260,6 +266,8 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
                 ux = -rx * inv_h
                 uy = -ry * inv_h
                 uz = -rz * inv_h
+                gab = weights[s, 0:3]
+                gba = weights[s, 3:6]
                 _pair_weights(rows[a], ux, uy, uz, 1.0, vb * wab * inv_h, gab)
                 _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, gba)
                 # V sigma = m rho (sigma / rho^2)

@@ -79,6 +79,7 @@ class SolidWork:
         self.mls_rows = np.zeros((n, 3, N_BASIS))   # quadratic fit: rows 0..2 of M^-1 (solid_mls.py)
         self.mls_order = np.zeros(n, dtype=np.int64)
         self.moment_buf = np.zeros((0, 0, 0))       # allocated on first use (chunks, N, 45)
+        self.mls_weights = np.zeros((0, 6))          # pair cache (G_ab, G_ba), allocated on first use
         self.w = np.zeros(0)
         self.f = np.zeros(0)
 
@@ -90,14 +91,15 @@ class SolidWork:
 
 @njit(cache=True, fastmath=False, error_model="numpy")
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows):
+                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.gradient_order == 2:
         momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
-                          prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f, buf)
+                          prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
+                          mls_weights, buf)
     else:
         momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
                       prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
@@ -127,7 +129,7 @@ def _max_norm(v):
 @njit(cache=True, fastmath=False, error_model="numpy")
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
-                   w, f, buf, kinv, mls_rows):
+                   w, f, buf, kinv, mls_rows, mls_weights):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -144,8 +146,8 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         if prm.gradient_order == 2:
-            xsph_velocity_and_mls_gradient(pos, period, mass, rho, vel, start, index, w, prm.h, prm.xsph_eps,
-                                           mls_rows, vhat, grad_v, buf)
+            xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v,
+                                           buf)
         else:
             xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v,
                                        buf, prm.gradient_order == 1, kinv)
@@ -163,7 +165,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     pos[a, k] += dt * vhat[a, k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows)
+                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights)
         for a in range(n):
             if movable[a]:
                 for k in range(3):

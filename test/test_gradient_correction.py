@@ -92,7 +92,7 @@ def _beam_cloud(jitter=0.0, seed=0):
 
 
 def _mls_setup(pos, h):
-    from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows
+    from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows, mls_pair_weights
     n = len(pos)
     mass = np.full(n, 1e-6)
     rho = np.full(n, 1000.0)
@@ -104,7 +104,9 @@ def _mls_setup(pos, h):
     rows = np.zeros((n, 3, N_BASIS))
     order = np.zeros(n, dtype=np.int64)
     mls_fit_rows(pos, np.zeros(3), mass, rho, nl.start, nl.index, h, rows, order, np.zeros((2, n, MOMENT_COUNT)))
-    return mass, rho, nl, w, f, rows, order
+    weights = np.zeros((nl.pairs, 6))
+    mls_pair_weights(pos, np.zeros(3), mass, rho, nl.start, nl.index, h, rows, weights)
+    return mass, rho, nl, w, f, rows, order, weights
 
 
 def test_quadratic_fit_gradient_is_exact_for_quadratic_fields_on_a_thin_beam():
@@ -113,7 +115,7 @@ def test_quadratic_fit_gradient_is_exact_for_quadratic_fields_on_a_thin_beam():
     fibres (test below)."""
     from sph_fsi_core.solid_mls import xsph_velocity_and_mls_gradient
     pos, dp, h = _beam_cloud(jitter=0.05)
-    mass, rho, nl, w, f, rows, order = _mls_setup(pos, h)
+    mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     assert (order == 2).all()
     rng = np.random.default_rng(7)
     a = rng.normal(size=(3, 3))
@@ -123,8 +125,8 @@ def test_quadratic_fit_gradient_is_exact_for_quadratic_fields_on_a_thin_beam():
     exact = a[None] + np.einsum("ijk,nk->nij", b, pos)
     n = len(pos)
     grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_mls_gradient(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, w, h, 0.5, rows,
-                                   np.zeros((n, 3)), grad, np.zeros((2, n, 18)))
+    xsph_velocity_and_mls_gradient(mass, rho, vel, nl.start, nl.index, w, weights, 0.5, np.zeros((n, 3)), grad,
+                                   np.zeros((2, n, 18)))
     assert np.abs(grad - exact).max() < 1e-8 * np.abs(exact).max()
 
 
@@ -134,7 +136,7 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
     pos, dp, h = _beam_cloud()
     zc = pos[:, 2] - 2 * dp
     vel = np.ascontiguousarray(np.stack([-pos[:, 0] * zc, 0 * zc, 0.5 * pos[:, 0] ** 2], 1))
-    mass, rho, nl, w, f, rows, order = _mls_setup(pos, h)
+    mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
     grad = np.zeros((n, 3, 3))
     xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, w, f, 0.5,
@@ -149,20 +151,24 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     sum_a V_a sigma_a : L_a of the same gradient: the discrete system stores exactly the work it receives."""
     from sph_fsi_core.solid_mls import momentum_rate_mls, xsph_velocity_and_mls_gradient
     pos, dp, h = _beam_cloud(jitter=0.05, seed=3)
-    mass, rho, nl, w, f, rows, order = _mls_setup(pos, h)
+    mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
     rng = np.random.default_rng(11)
     vel = np.ascontiguousarray(rng.normal(scale=0.01, size=(n, 3)))
     sigma = rng.normal(scale=1e3, size=(n, 6))
     acc = np.zeros((n, 3))
+    refreshed = np.zeros_like(weights)
     momentum_rate_mls(pos, np.zeros(3), mass, rho, vel, sigma / rho[:, None] ** 2, np.zeros((n, 6)), nl.start,
-                      nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, np.zeros((2, n, 18)))
+                      nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, refreshed,
+                      np.zeros((2, n, 18)))
+    # the force pass leaves the same pair weights in its cache as the post-build pass computes
+    assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)
     scale = (mass[:, None] * np.abs(acc)).sum()
     assert scale > 0 and np.abs(total).max() < 1e-12 * scale
     grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_mls_gradient(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, w, h, 0.0, rows,
-                                   np.zeros((n, 3)), grad, np.zeros((2, n, 18)))
+    xsph_velocity_and_mls_gradient(mass, rho, vel, nl.start, nl.index, w, weights, 0.0, np.zeros((n, 3)), grad,
+                                   np.zeros((2, n, 18)))
     full = np.zeros((n, 3, 3))
     for k, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
         full[:, i, j] = full[:, j, i] = sigma[:, k]
