@@ -19,7 +19,7 @@ STAMP = $(VENV)/.installed
 # The editable install maps the packages that exist when it runs: reinstall when a package appears.
 PKG_INITS = $(wildcard sph_fsi/__init__.py sph_fsi_core/__init__.py sph_fsi_core/*/__init__.py)
 
-.PHONY: all install run test validate bench clean distclean
+.PHONY: all install run test validate stability bench clean distclean
 
 all: install
 
@@ -45,6 +45,9 @@ test: install
 
 validate: install
 	$(PY) -m sph_fsi.cli validate $(ARGS)
+
+stability: install
+	$(PY) -m sph_fsi.cli stability $(ARGS)
 
 bench: install
 	$(PY) -m bench.run_all $(ARGS)

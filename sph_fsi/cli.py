@@ -7,6 +7,7 @@
     sph-fsi scenes
     sph-fsi keys [SCENE] [--yaml]
     sph-fsi validate [CASE ...] [--quick] [--workers N]
+    sph-fsi stability [NAME ...] [--ci] [--out DIR]
 
 Exit status: 0 on success; 2 on bad input (one line naming the key and the allowed range); 3 when the run
 diverged (one line naming the check that tripped, when and where); 130 when stopped by SIGINT or SIGTERM.
@@ -200,6 +201,11 @@ def _cmd_validate(args):
                          report_only=args.report_only)
 
 
+def _cmd_stability(args):
+    from sph_fsi_core.stability import main as stability_main
+    return stability_main(ci=args.ci, out_dir=args.out, names=args.names)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="sph-fsi", description="3D SPH fluid-structure simulator (Satake et al.)")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -238,6 +244,11 @@ def build_parser():
     p.add_argument("--out", default="docs/validation", help="where REPORT.md and plots go")
     p.add_argument("--report-only", action="store_true", help="rebuild REPORT.md and plots from earlier runs")
     p.set_defaults(func=_cmd_validate)
+    p = sub.add_parser("stability", help="stiff and extreme cases: the outcome of each (stable, refused, diverged)")
+    p.add_argument("names", nargs="*", help="run only cases whose name contains one of these")
+    p.add_argument("--ci", action="store_true", help="the CI subset only")
+    p.add_argument("--out", default="docs/validation", help="where STABILITY.md goes")
+    p.set_defaults(func=_cmd_stability)
     return parser
 
 

@@ -27,7 +27,7 @@ class Diverged(RuntimeError):
                 "detail": self.detail}
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def kinetic_energy(mass, vel, movable):
     """Sum of m v^2 / 2 over moving particles."""
     total = 0.0

@@ -44,7 +44,7 @@ def _image(d, period, half_period):
     return d
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho, p,
                       p_over_rho2, f_fluid, f_wall, buf):
     """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions (own pair included,
@@ -106,7 +106,7 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
         p_over_rho2[a] = pa / (s * s)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def compression_error(rho, rho0):
     """(max, mean) over fluid particles of the compression (rho_a - rho0)_+ / rho0, the loop's density error.
 
@@ -124,7 +124,7 @@ def compression_error(rho, rho0):
     return largest, (total / n if n > 0 else 0.0)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2):
     """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
     (0 without any), stored as p_w / rho0^2, for the `active` wall particles (those within reach of the water;
@@ -149,7 +149,7 @@ def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, w
         wall_p_over_rho2[w] = num / den / (rho0 * rho0) if den > 0.0 else 0.0
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
                           wstart, windex, f_wall, period, dt2, disp, accumulated, buf):
     """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
@@ -217,7 +217,7 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
         accumulated[a] += p[a]
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def apply_displacement(pos, disp, total, pos_at_build, moved2):
     """pos += disp; total += disp (the step's correction displacement r(t+dt) - r*); moved2 = squared distance
     from where the neighbour lists were built (the skin test, in the same pass)."""
@@ -231,7 +231,7 @@ def apply_displacement(pos, disp, total, pos_at_build, moved2):
         moved2[a] = d2
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def velocity_from_displacement(pos, pos_old, dt, vel):
     """Eq. (8): v*_a = (r_a(t+dt) - r_a(t)) / dt."""
     inv_dt = 1.0 / dt
@@ -240,7 +240,7 @@ def velocity_from_displacement(pos, pos_old, dt, vel):
             vel[a, k] = (pos[a, k] - pos_old[a, k]) * inv_dt
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu, dt, vel_out, buf):
     """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
 
@@ -299,7 +299,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
             vel_out[a, k] = vel[a, k] + dt * s
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def gravity_and_predictor(pos, vel, dt, gx, gy, gz, pos_old):
     """Step 1-2 of the fluid step: v_a += g dt (body force), then eq. (6), r*_a = r_a + v_a dt; keeps r_a(t)."""
     for a in prange(pos.shape[0]):
@@ -311,7 +311,7 @@ def gravity_and_predictor(pos, vel, dt, gx, gy, gz, pos_old):
             pos[a, k] += vel[a, k] * dt
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def wrap_periodic(pos, period, lo):
     """Put positions back into the periodic box [lo, lo + period) on periodic axes (after a step's velocity)."""
     for k in range(3):

@@ -52,7 +52,7 @@ class StepReport(NamedTuple):
     rebuilds: int
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
                     wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0,
                     c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
@@ -83,7 +83,7 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
             return it, -1.0, -1.0, NEEDS_REBUILD
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _largest(x):
     m = 0.0
     for i in range(x.shape[0]):
@@ -92,7 +92,7 @@ def _largest(x):
     return m
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index,
                         fill):
     """neighbours._scan_pairs with the sources' positions in cell order (`sorted_sources` = sources[order], read

@@ -21,7 +21,7 @@ MAX_CELLS_PER_AXIS = 1024
 MIN_CELL_BUDGET = 1 << 20   # the grid may hold max(MIN_CELL_BUDGET, 8 N) cells
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _cell_coordinates(pos, lo, cell_size, ncell, period):
     """Integer cell coordinates of each point: wrapped on periodic axes, clamped into the grid on open ones.
 
@@ -43,7 +43,7 @@ def _cell_coordinates(pos, lo, cell_size, ncell, period):
     return cell
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _bin_sources(cell, ncell):
     """Counting sort of source points by linear cell id: returns (cell_start, order)."""
     n = cell.shape[0]
@@ -92,7 +92,7 @@ def minimum_image(d, period):
     return d
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index, fill):
     """One pass over candidate pairs: counts per target (fill=False) or writes them into `index` (fill=True).
 
@@ -128,7 +128,7 @@ def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutof
             start[a + 1] = count
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pair_kernel_values(targets, sources, start, index, h, period, w, f):
     """Pair cache for one configuration: W_ab and F_ab = (dW/dr)/r (eq. (1)'s kernel), r_ab by minimum image."""
     inv_h = 1.0 / h
@@ -142,7 +142,7 @@ def pair_kernel_values(targets, sources, start, index, h, period, w, f):
             w[s], f[s] = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def max_displacement(pos, pos_at_build):
     """Largest distance any point has moved since the list was built (Verlet skin test)."""
     n = pos.shape[0]

@@ -20,7 +20,7 @@ from .neighbours import minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def material_constants(young_modulus, poisson_ratio, density):
     """Bulk modulus K = E/(3(1-2nu)), shear modulus G = E/(2(1+nu)), sound speed c0 = sqrt(K/rho0)."""
     bulk = young_modulus / (3.0 * (1.0 - 2.0 * poisson_ratio))
@@ -28,7 +28,7 @@ def material_constants(young_modulus, poisson_ratio, density):
     return bulk, shear, math.sqrt(bulk / density)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
                                correct_gradient, kinv):
     """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
@@ -166,7 +166,7 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                         kinv[a, i, j] = 1.0 if i == j else 0.0
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
     """Eq. (3): d rho_a/dt = rho_a sum_b (m_b/rho_b) (vhat_a - vhat_b) . grad_a W_ab.
 
@@ -198,7 +198,7 @@ def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
         drho[a] = rho[a] * acc
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def jaumann_stress_rate(grad_v, stress, shear_modulus, dstress):
     """Hooke's law in Jaumann-rate form (Gray 2001, eq. (9)-(10) there; METHOD sec. 1):
 
@@ -239,7 +239,7 @@ def jaumann_stress_rate(grad_v, stress, shear_modulus, dstress):
         dstress[a, YZ] = 2.0 * shear_modulus * eyz + ryz
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rho2, art_stress, eig_work):
     """Per particle: p = c0^2 (rho - rho0); sigma/rho^2 with sigma = -pI + S; Gray's artificial stress R_a.
 
@@ -288,7 +288,7 @@ def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rh
         art_stress[a, YZ] = q[1, 0] * q[2, 0] * rbar[0] + q[1, 1] * q[2, 1] * rbar[1] + q[1, 2] * q[2, 2] * rbar[2]
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
                   alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv):
     """Eq. (5): dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I + R_ab f_ab^n) . grad_a W_ab + g.
@@ -397,7 +397,7 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
             acc[a, k] = total
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def strain_energy(mass, rho, stress, pressure, shear_modulus, bulk_modulus):
     """Elastic energy sum_a (m_a/rho_a) (S:S/(4G) + p^2/(2K)) of linear isotropic elasticity (the paper's Fig. 8)."""
     total = 0.0

@@ -85,7 +85,7 @@ def _cholesky_solve_rows(m, rows, nb):
     return True
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_buf):
     """R_a (N, 3, 9): rows 0..2 of the inverse weighted moment matrix M_a; order[a] = 2 (quadratic) or 1 (linear).
 
@@ -161,7 +161,7 @@ def _pair_weights(rows_a, ux, uy, uz, sign, scale, g):
                         + rows_a[r, 8] * qyz)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsph_eps, vhat, grad_v, buf):
     """XSPH velocity, eq. (4), and the quadratic-fit velocity gradient L_a = sum_b (v_b - v_a) (x) G_ab.
 
@@ -209,7 +209,7 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
                 grad_v[a, i, j] = acc
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
     """The pair cache `weights` (pairs, 6) = (G_ab, G_ba) at the current positions (after a list build)."""
     inv_h = 1.0 / h
@@ -225,14 +225,14 @@ def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
             _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, weights[s, 3:6])
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def velocity_divergence_rate(rho, grad_v, drho):
     """Eq. (3) with the fitted gradient: d rho_a/dt = -rho_a tr(L_a)."""
     for a in prange(rho.shape[0]):
         drho[a] = -rho[a] * (grad_v[a, 0, 0] + grad_v[a, 1, 1] + grad_v[a, 2, 2])
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
                       alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).

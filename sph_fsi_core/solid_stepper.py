@@ -89,7 +89,7 @@ class SolidWork:
             self.f = np.zeros(npairs)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                        prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
@@ -116,7 +116,7 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
             acc[a, 2] += ext_acc[a, 2]
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _max_norm(v):
     m = 0.0
     for a in range(v.shape[0]):
@@ -126,7 +126,7 @@ def _max_norm(v):
     return math.sqrt(m)
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
                    w, f, buf, kinv, mls_rows, mls_weights):

@@ -24,7 +24,7 @@ def unpack(t, out):
     out[1, 2] = out[2, 1] = t[YZ]
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def symmetric_eigen(a, eigvals, eigvecs, rot):
     """Eigenvalues and column eigenvectors of the symmetric 3x3 matrix `a` by cyclic Jacobi rotations.
 

@@ -1,0 +1,223 @@
+"""`sph-fsi stability`: stiff and extreme inputs, each with its outcome.
+
+Every case ends in one of three outcomes, and which one is part of the case's definition (CI asserts it):
+
+- stable: the run reached its end; the report gives the time step chosen, the energy drift (period-averaged
+  kinetic + strain energy, largest growth from one period to the next) and the frequency error where there is
+  a reference;
+- refused: the input was rejected before any computation, with the message the user sees;
+- diverged: the watchdog stopped the run, naming the check, the time and the particles; the outputs hold no
+  NaN (checked here for every diverged case).
+
+Solid cases run a few of their own natural periods (beam theory's first frequency for the case's E, nu, rho),
+not a fixed physical time, so a steel beam costs about what a rubber one does: the solid step scales as
+h / c0 and the period as L^2 sqrt(rho / E), so the steps per period do not depend on E. They use a 20 mm beam
+at the paper's spacing (816 particles) to keep the whole table to minutes.
+"""
+import csv
+import json
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .references import beam_theory_frequency
+
+BEAM_LENGTH = 0.02
+
+
+@dataclass(frozen=True)
+class Case:
+    name: str
+    scene: str
+    overrides: dict
+    expect: str                 # stable | refused | diverged | stops (stable or diverged, never NaN)
+    periods: float = 2.0        # solid cases: natural periods of the case's beam
+    end_time: float = 0.0       # or a fixed end time
+    ci: bool = False            # part of the CI subset
+    why: str = ""
+
+
+def _beam(**overrides):
+    base = {"geometry.length": BEAM_LENGTH}
+    base.update(overrides)
+    return base
+
+
+def solid_cases():
+    cases = []
+    for e, rho, nu, ci in ((1e5, 1000.0, 0.49, True), (1.859e6, 1000.0, 0.49, False), (2e8, 1000.0, 0.49, False),
+                           (2e11, 7850.0, 0.3, True)):
+        cases.append(Case(f"cantilever E = {e:.3g} Pa", "cantilever",
+                          _beam(**{"solid.young_modulus": e, "solid.density": rho, "solid.poisson_ratio": nu}),
+                          "stable", ci=ci, why="rubber to steel; dt follows c0 = sqrt(K / rho)"))
+    for nu, ci in ((0.0, True), (0.3, False), (0.45, False), (0.49, False), (0.499, False)):
+        cases.append(Case(f"cantilever nu = {nu:g}", "cantilever", _beam(**{"solid.poisson_ratio": nu}), "stable",
+                          ci=ci, why="nu -> 0.5 makes the bulk modulus and c0 grow, so the step shrinks"))
+    for vf, expect in ((1.0, "stable"), (3.0, "stops"), (6.0, "stops")):
+        cases.append(Case(f"cantilever free-end speed {vf:g} m/s", "cantilever",
+                          _beam(**{"geometry.tip_velocity": vf}), expect,
+                          why="large deflection: amplitude Vf / (2 pi f) is a large fraction of L"))
+    cases.append(Case("cantilever 3 m/s, artificial stress off", "cantilever",
+                      _beam(**{"geometry.tip_velocity": 3.0, "solid.artificial_stress_epsilon": 0.0}), "stops",
+                      why="the tensile instability Gray's artificial stress is there to prevent"))
+    cases.append(Case("cantilever, forced dt 10x the stable limit", "cantilever",
+                      _beam(**{"solid.time_step": 2e-5}), "refused", ci=True,
+                      why="a step above the acoustic limit is refused, never silently used"))
+    cases.append(Case("cantilever nu = 0.5", "cantilever", _beam(**{"solid.poisson_ratio": 0.5}), "refused",
+                      ci=True, why="incompressible: K and c0 are infinite"))
+    cases.append(Case("cantilever E = 0", "cantilever", _beam(**{"solid.young_modulus": 0.0}), "refused", ci=True,
+                      why="no stiffness"))
+    cases.append(Case("cantilever spacing larger than the beam", "cantilever",
+                      _beam(**{"numerics.spacing": 0.005}), "refused", ci=True,
+                      why="fewer than two particle layers through the thickness"))
+    return cases
+
+
+def fluid_cases():
+    """Cases of the fluid scenes that exist (the fluid may be absent from an older checkout)."""
+    from .scenes import BUILDERS
+    cases = []
+    if "dam_break" in BUILDERS:
+        cases += [
+            Case("dam break, tolerance 0.1 %", "dam_break", {"fluid.density_tolerance": 0.001}, "stops",
+                 end_time=0.05, why="a very tight density criterion: more iterations, capped and reported"),
+            Case("dam break, tolerance 20 %", "dam_break", {"fluid.density_tolerance": 0.2}, "stable",
+                 end_time=0.05, ci=True, why="a very loose criterion: compressible, but it must not blow up"),
+        ]
+    return cases
+
+
+def all_cases():
+    return solid_cases() + fluid_cases()
+
+
+def _timing(case, spec):
+    """{end time, sampling interval}: solid cases run `periods` of their own beam and sample 50 times a period."""
+    if case.end_time:
+        return {"scene.end_time": case.end_time}
+    v = spec.values
+    f = beam_theory_frequency(v["geometry.length"], v["geometry.thickness"], v["solid.young_modulus"],
+                              v["solid.density"])
+    return {"scene.end_time": case.periods / f, "output.timeseries_interval": 1.0 / (50.0 * f)}
+
+
+def run_case(case, out_dir):
+    """Run one case; returns its result row (dict)."""
+    from .run import run_scene
+    from .scene import load_scene
+    from .schema import SceneError
+    row = {"case": case.name, "scene": case.scene, "expect": case.expect, "why": case.why,
+           "overrides": {k: v for k, v in case.overrides.items()}}
+    t0 = time.perf_counter()
+    try:
+        spec = load_scene(case.scene, list(case.overrides.items()))
+        spec = spec.with_overrides({**_timing(case, spec), "output.snapshot_interval": 0.0})
+        from .simulation import Simulation
+        Simulation(spec)   # refusals that need the built state (e.g. a forced step above the limit) come here
+    except SceneError as exc:
+        row.update(outcome="refused", detail=str(exc), wall_time_s=time.perf_counter() - t0)
+        return row
+    run_dir = Path(out_dir) / "runs" / _slug(case.name)
+    summary = run_scene(spec, run_dir, progress=False)
+    row["wall_time_s"] = time.perf_counter() - t0
+    row["end_time_s"] = spec["scene.end_time"]
+    row["solid_dt_s"] = summary.get("solid_dt_s")
+    row["fluid_dt_s"] = summary.get("fluid_dt_s")
+    row["warnings"] = summary.get("warnings", [])
+    row["outputs_finite"] = _outputs_finite(run_dir)
+    if summary["stable"]:
+        row["outcome"] = "stable"
+        parts = []
+        if summary.get("solid_dt_s"):
+            parts.append(f"solid dt {summary['solid_dt_s']:.3g} s")
+        drift = _energy_drift(run_dir)
+        if drift is not None:
+            row["energy_drift"] = drift
+            parts.append(f"energy drift {100 * drift:+.2f} % (last quarter vs first quarter of the run)")
+        error = summary.get("error_vs_euler_bernoulli_percent")
+        if error is not None and math.isfinite(error):
+            row["frequency_error"] = error
+            parts.append(f"f = {summary['frequency_hz']:.4g} Hz ({error:+.1f} % vs beam theory)")
+        if summary.get("fluid_capped_steps"):
+            parts.append(f"{summary['fluid_capped_steps']} fluid steps hit the iteration cap")
+        row["detail"] = "; ".join(parts)
+    else:
+        d = summary["diverged"]
+        row["outcome"] = "diverged"
+        row["detail"] = f"{d['check']} at t = {d['time']:.4g} s: {d['detail']}"
+    return row
+
+
+def _slug(name):
+    return "".join(c if c.isalnum() else "_" for c in name).strip("_")
+
+
+def _energy_drift(run_dir):
+    """Kinetic + strain energy averaged over the run's last quarter over that of its first quarter, minus 1."""
+    path = Path(run_dir) / "timeseries.csv"
+    if not path.is_file():
+        return None
+    with open(path) as fh:
+        rows = list(csv.DictReader(fh))
+    if len(rows) < 8 or "strain_energy" not in rows[0]:
+        return None
+    energy = np.array([float(r["kinetic_energy"]) + float(r["strain_energy"]) for r in rows])
+    quarter = len(energy) // 4
+    first = energy[:quarter].mean()
+    return float(energy[-quarter:].mean() / first - 1.0) if first > 0 else None
+
+
+def _outputs_finite(run_dir):
+    """No NaN or inf in timeseries.csv: a diverged run stops before anything non-finite is written."""
+    path = Path(run_dir) / "timeseries.csv"
+    if not path.is_file():
+        return True
+    with open(path) as fh:
+        rows = list(csv.reader(fh))[1:]
+    return all(math.isfinite(float(x)) for r in rows for x in r)
+
+
+def outcome_ok(row):
+    if row["outcome"] == "diverged" and not row.get("outputs_finite", True):
+        return False
+    if row["expect"] == "stops":
+        return row["outcome"] in ("stable", "diverged")
+    return row["outcome"] == row["expect"]
+
+
+def write_report(out_dir, rows, machine):
+    out = Path(out_dir)
+    lines = ["# Stability on stiff and extreme cases", "",
+             "Made by `sph-fsi stability` (`make stability`); every case, its expected and actual outcome. "
+             "'stops' means: stable or stopped by the watchdog with a diagnosis, never a NaN.", "",
+             f"Machine: {machine.get('cpus')} cores, {machine.get('numba_threads')} Numba threads, "
+             f"commit {machine.get('commit')}.", "",
+             "| case | expected | outcome | ok | wall [s] | detail |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        detail = r.get("detail", "").replace("|", "/")
+        lines.append(f"| {r['case']} | {r['expect']} | {r['outcome']} | {'yes' if outcome_ok(r) else '**NO**'} "
+                     f"| {r.get('wall_time_s', 0):.1f} | {detail} |")
+    lines += ["", "Why each case is there:", ""]
+    lines += [f"- {r['case']}: {r['why']}" for r in rows]
+    (out / "STABILITY.md").write_text("\n".join(lines) + "\n")
+    (out / "stability.json").write_text(json.dumps(rows, indent=1, default=str) + "\n")
+
+
+def main(ci=False, out_dir="docs/validation", names=()):
+    from .run import machine_info
+    cases = [c for c in all_cases() if (c.ci or not ci) and (not names or any(n in c.name for n in names))]
+    Path(out_dir).mkdir(parents=True, exist_ok=True)
+    rows = []
+    for case in cases:
+        row = run_case(case, out_dir)
+        rows.append(row)
+        print(f"  {case.name}: {row['outcome']} (expected {case.expect}) {row.get('detail', '')[:160]}", flush=True)
+    write_report(out_dir, rows, machine_info())
+    bad = [r for r in rows if not outcome_ok(r)]
+    for r in bad:
+        print(f"sph-fsi stability: FAILED {r['case']}: expected {r['expect']}, got {r['outcome']}", file=sys.stderr)
+    return 1 if bad else 0

@@ -1,0 +1,56 @@
+"""The CI subset of `sph-fsi stability` (sph_fsi_core/stability.py): each case ends as its table says.
+
+Stiff (steel, E = 2e11 Pa) and soft (E = 1e5 Pa) beams run stably for two of their own periods with the time
+step the sound speed dictates; inputs that cannot work (nu = 0.5, E = 0, a forced step 10x the stable limit, a
+spacing coarser than the beam) are refused before any computation with a message naming the key and the allowed
+range; no case writes a NaN.
+"""
+import pytest
+
+from sph_fsi_core import stability
+
+
+@pytest.fixture(scope="module")
+def rows(tmp_path_factory):
+    out = tmp_path_factory.mktemp("stability")
+    cases = [c for c in stability.all_cases() if c.ci]
+    return {c.name: stability.run_case(c, out) for c in cases}, out
+
+
+def test_every_ci_case_has_its_expected_outcome(rows):
+    results, _ = rows
+    assert len(results) >= 8
+    for name, row in results.items():
+        assert stability.outcome_ok(row), (name, row)
+
+
+def test_refusals_name_the_key_and_the_allowed_range(rows):
+    results, _ = rows
+    refused = {n: r for n, r in results.items() if r["expect"] == "refused"}
+    assert len(refused) >= 4
+    for name, row in refused.items():
+        detail = row["detail"]
+        assert "allowed" in detail, (name, detail)
+        key = next(iter(row["overrides"].keys() - {"geometry.length"}))
+        assert key in detail, (name, key, detail)
+
+
+def test_stiff_and_soft_beams_take_the_step_their_sound_speed_dictates(rows):
+    """dt = cfl h / (c0 + |v|): steel's step is ~sqrt(E ratio) shorter than rubber's, and both runs are stable."""
+    results, _ = rows
+    steel = results["cantilever E = 2e+11 Pa"]
+    rubber = results["cantilever E = 1e+05 Pa"]
+    assert steel["outcome"] == rubber["outcome"] == "stable"
+    # c0^2 = E / (3 (1 - 2 nu) rho): steel 2e11 / (1.2 * 7850), rubber 1e5 / (0.06 * 1000)
+    ratio = (2e11 / (1.2 * 7850) / (1e5 / (0.06 * 1000))) ** 0.5
+    assert rubber["solid_dt_s"] / steel["solid_dt_s"] == pytest.approx(ratio, rel=0.01)
+    for row in (steel, rubber):
+        assert row["energy_drift"] < 0.02          # the energy does not grow (the viscosity takes a little)
+
+
+def test_report_is_written(rows):
+    results, out = rows
+    stability.write_report(out, list(results.values()), {"cpus": 2, "numba_threads": 1, "commit": "test"})
+    text = (out / "STABILITY.md").read_text()
+    for name in results:
+        assert name in text
