@@ -142,8 +142,10 @@ def run_case(case, out_dir):
         if error is not None and math.isfinite(error):
             row["frequency_error"] = error
             parts.append(f"f = {summary['frequency_hz']:.4g} Hz ({error:+.1f} % vs beam theory)")
-        if summary.get("fluid_capped_steps"):
-            parts.append(f"{summary['fluid_capped_steps']} fluid steps hit the iteration cap")
+        if summary.get("fluid_steps"):
+            parts.append(f"fluid dt {summary['fluid_dt_s']:.3g} s, {summary['fluid_steps']} steps, "
+                         f"{summary['fluid_iterations_per_step']:.1f} correction iterations per step, "
+                         f"{summary['fluid_capped_steps']} steps at the iteration cap (reported as warnings)")
         row["detail"] = "; ".join(parts)
     else:
         d = summary["diverged"]

@@ -1,10 +1,10 @@
-"""Coarse validation in CI: the paper's beam (L = 40 mm, dp = 1 mm) for 1.75 periods, through `sph-fsi validate
---quick`, judged against the 3D linear-elasticity frequency of reference_data/cantilever_frequencies.csv.
+"""Coarse validation in CI: the paper's beam (L = 40 mm, dp = 1 mm) for 2.25 periods of the reference, through
+`sph-fsi validate --quick`, judged against the 3D linear-elasticity frequency of reference_data/cantilever_frequencies.csv.
 
 The default quadratic-fit gradient comes out 6 % low at this spacing and converges to the 3D value at first
 order in dp (docs/validation/FINDINGS.md: the 4-layer lattice's second moment is 6 % short of H^3/12 and the
 clamp acts half a spacing behind its face); the bound is 8 %, and the sign is asserted: below the 3D value.
-The run also must stay stable, lose little energy and grow no sideways motion. About two minutes on 2 cores.
+The run also must stay stable, lose little energy and grow no sideways motion. About three minutes on 2 cores.
 """
 import json
 
