@@ -1,7 +1,10 @@
 # sph_fsi: build, run and test from a local virtual environment.
-#   make run    create .venv, install everything pinned, run the default scene
-#   make test   same install, then the test suite
-# Variables: VENV, SCENE (scene name or YAML file; empty = default scene), OUT, ARGS (extra CLI arguments).
+#   make run       create .venv, install everything pinned, run the ROS 2 node on the paper's elastic gate
+#                  (2 mm, pressure coupling: about a minute), recording MCAP + Rerun into runs/, exit at the end
+#   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT
+#   make test      same install, then the test suite
+# Variables: VENV; for run: NODE_SCENE, NODE_PARAMS (extra `-p key:=value`); for headless: SCENE (scene name or
+# YAML file; empty = default scene), OUT, ARGS (extra CLI arguments).
 
 SHELL := /bin/bash
 
@@ -19,7 +22,7 @@ STAMP = $(VENV)/.installed
 # The editable install maps the packages that exist when it runs: reinstall when a package appears.
 PKG_INITS = $(wildcard sph_fsi/__init__.py sph_fsi_core/__init__.py sph_fsi_core/*/__init__.py)
 
-.PHONY: all install run test validate stability bench clean distclean
+.PHONY: all install run headless test validate stability bench clean distclean
 
 all: install
 
@@ -32,7 +35,17 @@ $(STAMP): requirements.txt requirements-dev.txt setup.py setup.cfg package.xml $
 
 install: $(STAMP)
 
+NODE_SCENE ?= elastic_gate
+NODE_PARAMS ?= -p numerics.spacing:=0.002 -p coupling.model:=pressure
+
 run: install
+	mkdir -p runs
+	$(VENV)/bin/sph_fsi_node --ros-args -p scene:=$(NODE_SCENE) $(NODE_PARAMS) -p on_end:=exit \
+	    -p mcap_path:=runs/$(NODE_SCENE).mcap -p rrd_path:=runs/$(NODE_SCENE).rrd
+	@echo "Recordings: runs/$(NODE_SCENE).mcap (Foxglove: open the file; rosbags / mcap-ros2-support in Python)"
+	@echo "            runs/$(NODE_SCENE).rrd  (Rerun viewer: $(VENV)/bin/rerun runs/$(NODE_SCENE).rrd)"
+
+headless: install
 	$(PY) -m sph_fsi.cli run $(SCENE) --out $(OUT) $(ARGS)
 	@echo "Outputs in $(OUT)/ (timeseries.csv, summary.json, snapshots)"
 
