@@ -28,6 +28,23 @@ def material_constants(young_modulus, poisson_ratio, density):
     return bulk, shear, math.sqrt(bulk / density)
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v):
+    """Particle a's XSPH velocity (columns 0-2) and velocity gradient (3-11) from the per-chunk sums in `buf`."""
+    chunks = buf.shape[0]
+    for k in range(3):
+        acc = 0.0
+        for c in range(chunks):
+            acc += buf[c, a, k]
+        vhat[a, k] = vel[a, k] + xsph_eps * acc
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for c in range(chunks):
+                acc += buf[c, a, 3 + 3 * i + j]
+            grad_v[a, i, j] = acc
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
                                correct_gradient, kinv):
@@ -122,17 +139,7 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
             out[a, 1] += x1
             out[a, 2] += x2
     for a in prange(n):
-        for k in range(3):
-            acc = 0.0
-            for c in range(chunks):
-                acc += buf[c, a, k]
-            vhat[a, k] = vel[a, k] + xsph_eps * acc
-        for i in range(3):
-            for j in range(3):
-                acc = 0.0
-                for c in range(chunks):
-                    acc += buf[c, a, 3 + 3 * i + j]
-                grad_v[a, i, j] = acc
+        sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v)
         if correct_gradient:
             k00 = k01 = k02 = k11 = k12 = k22 = 0.0
             for c in range(chunks):

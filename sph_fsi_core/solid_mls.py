@@ -30,6 +30,7 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import minimum_image
+from .solid_gray2001 import sum_velocity_chunks
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 N_BASIS = 9
@@ -196,17 +197,7 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
                     out[b, 6 + j] -= dvy * gba[j]
                     out[b, 9 + j] -= dvz * gba[j]
     for a in prange(n):
-        for k in range(3):
-            acc = 0.0
-            for c in range(chunks):
-                acc += buf[c, a, k]
-            vhat[a, k] = vel[a, k] + xsph_eps * acc
-        for i in range(3):
-            for j in range(3):
-                acc = 0.0
-                for c in range(chunks):
-                    acc += buf[c, a, 3 + 3 * i + j]
-                grad_v[a, i, j] = acc
+        sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
