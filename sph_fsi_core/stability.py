@@ -113,16 +113,16 @@ def run_case(case, out_dir):
     row = {"case": case.name, "scene": case.scene, "expect": case.expect, "why": case.why,
            "overrides": {k: v for k, v in case.overrides.items()}}
     t0 = time.perf_counter()
+    run_dir = Path(out_dir) / "runs" / _slug(case.name)
     try:
         spec = load_scene(case.scene, list(case.overrides.items()))
         spec = spec.with_overrides({**_timing(case, spec), "output.snapshot_interval": 0.0})
-        from .simulation import Simulation
-        Simulation(spec)   # refusals that need the built state (e.g. a forced step above the limit) come here
+        # refusals that need the built state (e.g. a forced step above the limit) come from the build, before
+        # the first step
+        summary = run_scene(spec, run_dir, progress=False)
     except SceneError as exc:
         row.update(outcome="refused", detail=str(exc), wall_time_s=time.perf_counter() - t0)
         return row
-    run_dir = Path(out_dir) / "runs" / _slug(case.name)
-    summary = run_scene(spec, run_dir, progress=False)
     row["wall_time_s"] = time.perf_counter() - t0
     row["end_time_s"] = spec["scene.end_time"]
     row["solid_dt_s"] = summary.get("solid_dt_s")
