@@ -295,6 +295,36 @@ def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rh
         art_stress[a, YZ] = q[1, 0] * q[2, 0] * rbar[0] + q[1, 1] * q[2, 1] * rbar[1] + q[1, 2] * q[2, 2] * rbar[2]
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def viscous_and_artificial_stress_terms(vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed,
+                                        alpha, beta, art_exponent, inv_w_dp):
+    """The pair's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ); r = r_a - r_b."""
+    txx = tyy = tzz = txy = txz = tyz = 0.0
+    vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
+    if vr < 0.0:
+        mu = h * vr / (r2 + eta2)
+        pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
+        txx -= pi_ab
+        tyy -= pi_ab
+        tzz -= pi_ab
+    if art_exponent > 0:
+        ratio = wab * inv_w_dp
+        if art_exponent == 4:   # Gray's n, the default: two multiplications
+            fn = ratio * ratio
+            fn *= fn
+        else:
+            fn = 1.0
+            for _ in range(art_exponent):
+                fn *= ratio
+        txx += (art_stress[a, XX] + art_stress[b, XX]) * fn
+        tyy += (art_stress[a, YY] + art_stress[b, YY]) * fn
+        tzz += (art_stress[a, ZZ] + art_stress[b, ZZ]) * fn
+        txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
+        txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
+        tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
+    return txx, tyy, tzz, txy, txz, tyz
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
                   alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv):
@@ -313,7 +343,6 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
-    use_art = art_exponent > 0
     n = vel.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -362,28 +391,15 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
                     txy = sigma_over_rho2[a, XY] + sigma_over_rho2[b, XY]
                     txz = sigma_over_rho2[a, XZ] + sigma_over_rho2[b, XZ]
                     tyz = sigma_over_rho2[a, YZ] + sigma_over_rho2[b, YZ]
-                vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
-                if vr < 0.0:
-                    mu = h * vr / (r2 + eta2)
-                    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
-                    txx -= pi_ab
-                    tyy -= pi_ab
-                    tzz -= pi_ab
-                if use_art:
-                    ratio = wab * inv_w_dp
-                    if art_exponent == 4:   # Gray's n, the default: two multiplications
-                        fn = ratio * ratio
-                        fn *= fn
-                    else:
-                        fn = 1.0
-                        for _ in range(art_exponent):
-                            fn *= ratio
-                    txx += (art_stress[a, XX] + art_stress[b, XX]) * fn
-                    tyy += (art_stress[a, YY] + art_stress[b, YY]) * fn
-                    tzz += (art_stress[a, ZZ] + art_stress[b, ZZ]) * fn
-                    txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
-                    txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
-                    tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
+                pxx, pyy, pzz, pxy, pxz, pyz = viscous_and_artificial_stress_terms(
+                    vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
+                    inv_w_dp)
+                txx += pxx
+                tyy += pyy
+                tzz += pzz
+                txy += pxy
+                txz += pxz
+                tyz += pyz
                 gx = fx + txx * mx + txy * my + txz * mz
                 gy = fy + txy * mx + tyy * my + tyz * mz
                 gz = fz + txz * mx + tyz * my + tzz * mz

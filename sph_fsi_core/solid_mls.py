@@ -30,7 +30,7 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import minimum_image
-from .solid_gray2001 import sum_velocity_chunks
+from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 N_BASIS = 9
@@ -236,7 +236,6 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     sigma_k = 1.0 / (math.pi * h * h * h)
-    use_art = art_exponent > 0
     n = vel.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -272,25 +271,9 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
                       - kb * (sb[XY] * gba[0] + sb[YY] * gba[1] + sb[YZ] * gba[2]))
                 fz = (ka * (sa[XZ] * gab[0] + sa[YZ] * gab[1] + sa[ZZ] * gab[2])
                       - kb * (sb[XZ] * gba[0] + sb[YZ] * gba[1] + sb[ZZ] * gba[2]))
-                txx = tyy = tzz = txy = txz = tyz = 0.0
-                vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
-                if vr < 0.0:
-                    mu = h * vr / (r2 + eta2)
-                    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
-                    txx -= pi_ab
-                    tyy -= pi_ab
-                    tzz -= pi_ab
-                if use_art:
-                    ratio = wab * inv_w_dp
-                    fn = 1.0
-                    for _ in range(art_exponent):
-                        fn *= ratio
-                    txx += (art_stress[a, XX] + art_stress[b, XX]) * fn
-                    tyy += (art_stress[a, YY] + art_stress[b, YY]) * fn
-                    tzz += (art_stress[a, ZZ] + art_stress[b, ZZ]) * fn
-                    txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
-                    txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
-                    tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
+                txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(
+                    vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
+                    inv_w_dp)
                 mm = mass[a] * mass[b]
                 gx = fab * rx
                 gy = fab * ry
