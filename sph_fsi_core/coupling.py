@@ -62,7 +62,7 @@ def _image(d, period):
     return d
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def surface_gradient(pos, volume, start, index, period, h, out):
     """g_a = -sum_b V_b grad_a W_ab over the solid's own particles (full list): zero in the bulk, outward at a
     surface (module docstring). grad_a W_ab = F_ab (r_a - r_b)."""
@@ -93,7 +93,7 @@ def surface_gradient(pos, volume, start, index, period, h, out):
         out[a, 2] = gz
 
 
-@njit(cache=True, fastmath=False, error_model="numpy")
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def surface_normals(gradient, surface, normal):
     """n_a = g_a / |g_a| on surface particles, 0 elsewhere."""
     for a in range(gradient.shape[0]):
@@ -102,7 +102,7 @@ def surface_normals(gradient, surface, normal):
             normal[a, k] = gradient[a, k] / norm if (surface[a] and norm > 0.0) else 0.0
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, fluid_mass, fluid_rho, correction,
               inv_dt2, period, h, gamma, acc):
     """Eqs. (10)-(11): acc_a = gamma sum_b (m_b / rho_b) (adot_b . n_a) W_ab (-n_a), adot_b = correction_b / dt^2,
@@ -135,7 +135,7 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
         acc[a, 2] = -gamma * s * nz
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h, out):
     """P_s = sum_f P_f W_sf / sum_f W_sf over the fluid neighbours of solid particle s (0 without any): the
     pressure a solid particle carries as a wall (fluid_okaji.wall_pressure's rule, on the step's summed P)."""
@@ -159,7 +159,7 @@ def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h,
         out[s] = num / den if den > 0.0 else 0.0
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, fluid_pos, fluid_mass, fluid_p, period,
                             h, rho0, force):
     """'pressure' model, the solid's side: F_s = sum_a m_a m'_s (P_a + P_s) / rho0^2 grad_a W_as (a gather over the
@@ -190,7 +190,7 @@ def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, flu
         force[s, 2] = fz
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, solid_pos, wall_mass, solid_p, period,
                             h, rho0, force):
     """'pressure' model, the fluid's side of the same pairs: F_a = -sum_s m_a m'_s (P_a + P_s) / rho0^2
