@@ -466,6 +466,7 @@ class SphFsiNode(Node):
         return response
 
     def _srv_step(self, _request, response):
+        self._check_end_time()   # end_time may have been raised a moment ago, before the sim thread looked
         with self._cv:
             if self._diverged is not None:
                 response.success, response.message = False, "the run diverged; call ~/reset"
