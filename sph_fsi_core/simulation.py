@@ -22,6 +22,7 @@ from .solid_gray2001 import material_constants, strain_energy
 from .solid_mls import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .solid_stepper import SolidWork, make_params, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
+from .scenes.built import check_layout
 from .scenes.tank import lattice_density_scale
 
 __all__ = ["Simulation", "Diverged"]
@@ -42,6 +43,7 @@ class Simulation:
     def _build(self):
         v = self.spec.values
         built = self.builder.build(v)
+        check_layout(built, v["numerics.spacing"])
         self.solid = built.solid
         self.fluid = built.fluid
         self.walls = built.walls

@@ -37,8 +37,8 @@ def geometry_params(d):
               "Gate free length L along z, clamp to free end (rounded to whole spacings)", low=0.0,
               low_inclusive=False, high=10.0),
         Param("geometry.gate_clearance", d["gate_clearance"], "m",
-              "Gap G between the gate's free end and the floor (rounded to whole spacings, at least one)", low=0.0,
-              low_inclusive=False, high=10.0),
+              "Gap G between the gate's free end and the floor (rounded to whole spacings; 0: the gate stands on "
+              "the floor and holds the water back)", low=0.0, high=10.0),
         Param("geometry.gate_clamp_height", d["gate_clamp_height"], "m",
               "Fixed solid above the free length (the clamp; rounded to whole spacings, at least 2h)", low=0.0,
               low_inclusive=False, high=10.0),
@@ -74,7 +74,8 @@ def layer_counts(values):
     return dict(
         nt=_round_layers(values["geometry.gate_thickness"], dp, "geometry.gate_thickness", 2),
         nl=_round_layers(values["geometry.gate_length"], dp, "geometry.gate_length", 4),
-        ng=_round_layers(values["geometry.gate_clearance"], dp, "geometry.gate_clearance", 1),
+        ng=(_round_layers(values["geometry.gate_clearance"], dp, "geometry.gate_clearance", 1)
+            if values["geometry.gate_clearance"] > 0.0 else 0),
         nc=max(_round_layers(values["geometry.gate_clamp_height"], dp, "geometry.gate_clamp_height", 1),
                math.ceil(2.0 * h / dp - 1e-9)),
         na=_round_layers(values["geometry.water_width"], dp, "geometry.water_width", 2),
@@ -154,6 +155,13 @@ def sample(solid, probes):
     """Extra time-series columns: the free end's mean velocity in x and z."""
     tip = probes[0].indices
     return {"tip_vx": float(solid.vel[tip, 0].mean()), "tip_vz": float(solid.vel[tip, 2].mean())}
+
+
+def sample_fluid(sim):
+    """Extra time-series column: the fraction of the water on the gate's dry side (it passed under the gate)."""
+    x = sim.fluid.pos[:, 0]
+    dry = x > 0.0 if sim.spec.values["geometry.mirror"] else x < 0.0
+    return {"water_past_gate": float(dry.mean())}
 
 
 def sigma_zz(solid):

@@ -1,0 +1,100 @@
+"""Bad input for the fluid and coupled scenes, and the layout check every built scene passes before its first step:
+bodies that overlap or leave the domain, and an empty scene, are refused with a message naming what is wrong.
+(The cantilever's table of bad input is in test_scene.py.)"""
+import numpy as np
+import pytest
+
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.scenes import BUILDERS
+from sph_fsi_core.scenes.built import Built, check_layout
+from sph_fsi_core.schema import SceneError
+from sph_fsi_core.simulation import Simulation
+from sph_fsi_core.state import FluidState, SolidState, WallState
+
+# (scene, overrides, words the message must contain); every one refused before the first step
+BAD_SCENES = [
+    ("dam_break", ["geometry.tank_length=0.05"], ["geometry.tank_length", "allowed"]),      # column through the wall
+    ("dam_break", ["geometry.wall_height=0.1"], ["geometry.wall_height", "allowed"]),       # water above the walls
+    ("dam_break", ["geometry.column_width=0.05"], ["geometry.column_width", "allowed"]),    # not whole spacings
+    ("dam_break", ["solid.young_modulus=1e6"], ["solid.young_modulus"]),                   # no solid in a dam break
+    ("dam_break", ["coupling.gamma=10"], ["coupling.gamma"]),                              # nor a coupling
+    ("hydrostatic", ["geometry.wall_height=0.05"], ["geometry.wall_height", "allowed"]),
+    ("hydrostatic", ["geometry.wall_layers=1"], ["geometry.wall_layers", "allowed"]),      # kernel reaches past
+    ("hydrostatic", ["geometry.span_layers=2"], ["geometry.span_layers", "allowed"]),      # periodic slab too thin
+    ("hydrostatic", ["fluid.density_tolerance=0"], ["fluid.density_tolerance", "allowed"]),
+    ("hydrostatic", ["fluid.density=-1000"], ["fluid.density", "allowed"]),
+    ("elastic_gate", ["geometry.wall_height=0.03"], ["geometry.wall_height", "allowed"]),
+    ("elastic_gate", ["numerics.spacing=0.003"], ["geometry.gate_thickness", "allowed"]),  # spacing beyond the body
+    ("elastic_gate", ["geometry.gate_clearance=0.0003"], ["geometry.gate_clearance", "allowed"]),
+    ("elastic_gate", ["geometry.gate_clearance=-0.002"], ["geometry.gate_clearance", "allowed"]),
+    ("elastic_gate", ["coupling.gamma=-1"], ["coupling.gamma", "allowed"]),
+    ("elastic_gate", ["coupling.model=glue"], ["coupling.model", "allowed"]),
+    ("elastic_gate", ["solid.poisson_ratio=0.5"], ["solid.poisson_ratio", "allowed"]),
+    ("antoci_gate", ["geometry.mirror=maybe"], ["geometry.mirror", "allowed"]),
+    ("cantilever", ["coupling.gamma=10"], ["coupling.gamma"]),                             # no fluid, no coupling
+    ("cantilever", ["fluid.density_tolerance=0.01"], ["fluid.density_tolerance"]),
+]
+
+
+@pytest.mark.parametrize("scene, overrides, words", BAD_SCENES,
+                         ids=[f"{s}:{o[0]}" for s, o, _ in BAD_SCENES])
+def test_bad_scene_input_is_refused_before_the_first_step(scene, overrides, words):
+    with pytest.raises(SceneError) as info:
+        Simulation(load_scene(scene, overrides))
+    for word in words:
+        assert word in str(info.value), (word, str(info.value))
+
+
+@pytest.mark.parametrize("scene", sorted(BUILDERS))
+def test_every_builtin_scene_passes_the_layout_check(scene):
+    spec = load_scene(scene)
+    check_layout(BUILDERS[scene].build(spec.values), spec["numerics.spacing"])   # raises on a bad layout
+
+
+def _block(n, dp, offset):
+    axes = [(np.arange(n) + 0.5) * dp + o for o in offset]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
+
+def _built(fluid_offset, dp=0.01):
+    solid = SolidState.at_rest(_block(4, dp, (0.0, 0.0, 0.0)), np.ones(64, bool), 1000.0, dp)
+    fluid = FluidState.at_rest(_block(4, dp, fluid_offset), 1000.0, dp)
+    walls = WallState.lattice(_block(2, dp, (0.0, 0.0, -0.03)), 1000.0, dp)
+    return Built(solid=solid, fluid=fluid, walls=walls, domain_lo=np.full(3, -0.1), domain_hi=np.full(3, 0.2))
+
+
+def test_bodies_one_spacing_apart_pass():
+    check_layout(_built((0.04, 0.0, 0.0)), 0.01)     # the fluid block touches the solid's face, one dp apart
+
+
+def test_overlapping_bodies_are_refused_naming_both_particles():
+    with pytest.raises(SceneError) as info:
+        check_layout(_built((0.02, 0.0, 0.0)), 0.01)   # two of the four layers on top of the solid's
+    message = str(info.value)
+    assert "overlap" in message and "32 particle pair(s)" in message
+    assert "solid particle" in message and "fluid particle" in message and "allowed" in message
+
+
+def test_a_body_outside_the_domain_is_refused():
+    with pytest.raises(SceneError) as info:
+        check_layout(_built((0.5, 0.0, 0.0)), 0.01)
+    message = str(info.value)
+    assert "64 particle(s) outside the scene's domain" in message and "fluid particle 0" in message
+
+
+def test_an_empty_scene_is_refused():
+    with pytest.raises(SceneError, match="no particles"):
+        check_layout(Built(domain_lo=np.zeros(3), domain_hi=np.ones(3)), 0.01)
+
+
+def test_gate_without_a_gap_stands_on_the_floor():
+    """geometry.gate_clearance = 0: the gate's lowest layer sits one spacing above the floor's top layer, the slot
+    under it is gone, and the layout check passes."""
+    spec = load_scene("elastic_gate", ["numerics.spacing=0.002", "geometry.gate_clamp_height=0.004",
+                                       "geometry.gate_clearance=0"])
+    with_gap = Simulation(load_scene("elastic_gate", ["numerics.spacing=0.002", "geometry.gate_clamp_height=0.004"]))
+    sim = Simulation(spec)
+    assert sim.solid.pos[:, 2].min() == pytest.approx(0.001)
+    assert sim.walls.pos[sim.walls.pos[:, 2] < 0, 2].max() == pytest.approx(-0.001)
+    # the slot under the gate (2 x 18 x 1 sites at 2 mm) is water in the gapped gate only
+    assert with_gap.fluid.count - sim.fluid.count == 2 * 18 * 1
