@@ -184,9 +184,23 @@ def _cmd_replay(args):
 
 
 def _print_summary(s, out):
-    print(f"particles: {s['particles']}  solid steps: {s['solid_steps']}  wall time: {s['wall_time_s']:.1f} s  "
+    steps = []
+    if s.get("solid_steps"):
+        steps.append(f"solid steps: {s['solid_steps']}")
+    if s.get("fluid_steps"):
+        steps.append(f"fluid steps: {s['fluid_steps']} ({s['fluid_iterations_per_step']:.1f} correction iterations "
+                     f"per step)")
+    counts = {k: v for k, v in s["particles"].items() if v and k != "solid_moving"}
+    print(f"particles: {sum(counts.values()):,} ({', '.join(f'{k} {v:,}' for k, v in counts.items())})  "
+          f"{'  '.join(steps)}  wall time: {s['wall_time_s']:.1f} s  "
           f"particle-steps/s: {s['particle_steps_per_second'] or 0:,.0f}")
-    if s.get("frequency_hz") is not None:
+    if s.get("error") is not None and s.get("frequency_hz") is None:
+        print(f"error: {100 * s['error']:.2f} % ({s.get('error_metric', 'against the scene reference')})")
+    for warning in s.get("warnings", [])[:5]:
+        print(f"warning: {warning}", file=sys.stderr)
+    if len(s.get("warnings", [])) > 5:
+        print(f"warning: ... {len(s['warnings']) - 5} more in summary.json", file=sys.stderr)
+    if s.get("frequency_hz") is not None and s.get("error") is not None:
         print(f"frequency: {s['frequency_hz']:.4f} +- {s['frequency_uncertainty_hz']:.4f} Hz over "
               f"{s['periods']:.1f} periods; reference {s['reference_hz']:.4f} Hz ({s['judged_against']}); "
               f"error {100 * s['error']:.2f} %; damping ratio {s['damping_ratio']:.4f}")

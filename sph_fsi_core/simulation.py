@@ -67,6 +67,7 @@ class Simulation:
                                                   box_lo=built.domain_lo, box_hi=built.domain_hi, half=True)
             self._apply_solid_settings()
             self._rebuild_solid_neighbours()
+            self._warn_if_quadratic_fit_falls_back()
             self._solid_acceleration()
         self.fluid_solver = None
         self.fluid_steps = 0
@@ -164,6 +165,19 @@ class Simulation:
             mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
                              wk.mls_weights)
         self.neighbour_builds += 1
+
+    def _warn_if_quadratic_fit_falls_back(self):
+        """The quadratic fit needs three particle layers in every direction; thinner bodies get the linear fit."""
+        if self.solid_params.gradient_order != 2:
+            return
+        moving = self.solid.movable
+        linear = int(np.count_nonzero(moving & (self.solid_work.mls_order < 2)))
+        if linear:
+            self.warnings.append(
+                f"solid.velocity_gradient = quadratic: {linear} of {int(moving.sum())} moving solid particles have "
+                f"fewer than three particle layers in some direction within their kernel and use the linear fit "
+                f"(first order) instead; a finer numerics.spacing (now {self.spacing:g} m) gives the quadratic fit "
+                f"three layers")
 
     def _solid_acceleration(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work

@@ -17,6 +17,7 @@ at the paper's spacing (816 particles) to keep the whole table to minutes.
 import csv
 import json
 import math
+import os
 import sys
 import time
 from dataclasses import dataclass, field
@@ -252,13 +253,22 @@ def outcome_ok(row):
     return row["outcome"] == row["expect"]
 
 
+NOTES_HEADING = "## Reading the table"   # hand-written notes below this heading survive a rerun
+
+
 def write_report(out_dir, rows, machine):
     out = Path(out_dir)
+    page = out / "STABILITY.md"
+    notes = ""
+    if page.is_file():
+        text = page.read_text()
+        notes = text[text.find(NOTES_HEADING):] if NOTES_HEADING in text else ""
     lines = ["# Stability on stiff and extreme cases", "",
              "Made by `sph-fsi stability` (`make stability`); every case, its expected and actual outcome. "
              "'stops' means: stable or stopped by the watchdog with a diagnosis, never a NaN.", "",
              f"Machine: {machine.get('cpus')} cores, {machine.get('numba_threads')} Numba threads, "
-             f"commit {machine.get('commit')}.", "",
+             f"commit {machine.get('commit')}; written {time.strftime('%Y-%m-%d')}, load average "
+             f"{os.getloadavg()[0]:.1f} (wall times scale with the load).", "",
              "| case | expected | outcome | ok | wall [s] | detail |", "|---|---|---|---|---|---|"]
     for r in rows:
         detail = r.get("detail", "").replace("|", "/")
@@ -266,7 +276,7 @@ def write_report(out_dir, rows, machine):
                      f"| {r.get('wall_time_s', 0):.1f} | {detail} |")
     lines += ["", "Why each case is there:", ""]
     lines += [f"- {r['case']}: {r['why']}" for r in rows]
-    (out / "STABILITY.md").write_text("\n".join(lines) + "\n")
+    page.write_text("\n".join(lines) + "\n" + ("\n" + notes if notes else ""))
     (out / "stability.json").write_text(json.dumps(rows, indent=1, default=str) + "\n")
 
 

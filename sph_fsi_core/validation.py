@@ -8,6 +8,7 @@ the bound stated with the rung; it is part of CI.
 """
 import json
 import multiprocessing
+import os
 import sys
 import time
 from dataclasses import dataclass
@@ -134,9 +135,19 @@ def run_rung(args):
 def run_rungs(rungs, out_dir, workers=1):
     jobs = [(r, out_dir) for r in rungs]
     if workers > 1:
-        # Rungs are independent; each process runs Numba's threads, so use workers = cores / threads.
-        with multiprocessing.get_context("spawn").Pool(workers) as pool:
-            return pool.map(run_rung, jobs, chunksize=1)
+        # Rungs are independent. Each worker gets cores / workers Numba threads: more threads than cores makes
+        # OpenMP's spinning threads wait on each other and runs several times slower, not a little.
+        threads = max(1, (os.cpu_count() or 1) // workers)
+        saved = os.environ.get("NUMBA_NUM_THREADS")
+        os.environ["NUMBA_NUM_THREADS"] = str(threads)     # spawned workers inherit the environment
+        try:
+            with multiprocessing.get_context("spawn").Pool(workers) as pool:
+                return pool.map(run_rung, jobs, chunksize=1)
+        finally:
+            if saved is None:
+                os.environ.pop("NUMBA_NUM_THREADS", None)
+            else:
+                os.environ["NUMBA_NUM_THREADS"] = saved
     return [run_rung(j) for j in jobs]
 
 

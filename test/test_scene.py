@@ -394,3 +394,24 @@ def test_cli_keys(capsys):
     assert main(["keys", "--yaml"]) == 0
     out, _ = capsys.readouterr()
     assert out == defaults_yaml()
+
+
+def test_cli_run_reports_the_fallback_of_a_too_thin_body(tmp_path, capsys):
+    """Two layers through the thickness: the default quadratic fit is not determined there; the run says so."""
+    code = main(["run", "cantilever", "--set", "numerics.spacing=0.002", "--set", "geometry.length=0.02",
+                 "--end-time", "2e-4", "--out", str(tmp_path / "thin")])
+    assert code == 0
+    out, err = capsys.readouterr()
+    assert "solid steps:" in out and "fluid steps" not in out
+    assert "warning: solid.velocity_gradient = quadratic" in err and "linear fit" in err
+    assert main(["run", "cantilever", "--set", "geometry.length=0.01", "--end-time", "2e-5",
+                 "--out", str(tmp_path / "thick")]) == 0
+    out, err = capsys.readouterr()
+    assert "warning" not in err
+
+
+def test_cli_run_of_a_fluid_scene_reports_its_steps_and_error(tmp_path, capsys):
+    assert main(["run", "hydrostatic", "--end-time", "0.004", "--out", str(tmp_path / "hs")]) == 0
+    out, _ = capsys.readouterr()
+    assert "fluid steps:" in out and "correction iterations per step" in out and "solid steps" not in out
+    assert "error:" in out and "rho g H" in out

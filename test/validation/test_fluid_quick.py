@@ -17,9 +17,11 @@ from sph_fsi_core.validation import main as validate
 
 
 def test_quick_fluid_cases_within_bounds(tmp_path):
-    assert validate(["hydrostatic", "dam_break"], quick=True, out_dir=tmp_path) == 0
+    # two worker processes (the rungs are independent), each with cores / workers Numba threads
+    assert validate(["hydrostatic", "dam_break"], quick=True, workers=2, out_dir=tmp_path) == 0
     runs = tmp_path / "runs"
     hs = json.loads((runs / "hydrostatic" / "dp_5mm" / "summary.json").read_text())
+    assert hs["machine"]["numba_threads"] == max(1, hs["machine"]["cpus"] // 2)
     assert hs["stable"] and hs["particles"]["fluid"] == 10 * 20 * 6
     assert hs["reference_floor_pressure_pa"] == 1000.0 * 9.81 * 0.1
     assert abs(hs["floor_pressure_error"]) < 0.02

@@ -54,6 +54,11 @@ def test_report_is_written(rows):
     text = (out / "STABILITY.md").read_text()
     for name in results:
         assert name in text
+    # hand-written notes under the notes heading survive a rerun
+    (out / "STABILITY.md").write_text(text + "\n" + stability.NOTES_HEADING + "\n\n- a note\n")
+    stability.write_report(out, list(results.values()), {"cpus": 2, "numba_threads": 1, "commit": "again"})
+    text = (out / "STABILITY.md").read_text()
+    assert "commit again" in text and text.count(stability.NOTES_HEADING) == 1 and text.endswith("- a note\n")
 
 
 def test_gate_standing_on_the_floor_holds_the_water_and_bends(rows):
