@@ -6,7 +6,7 @@ from pathlib import Path
 
 from sph_fsi_core.run import machine_info
 
-from . import fluid_throughput, recording_cost, solid_throughput
+from . import fluid_throughput, publishing_cost, recording_cost, solid_throughput
 
 
 def main(argv=None):
@@ -45,6 +45,8 @@ def main(argv=None):
                      f"{r['particle_steps_per_second'] / 1e6:.3f} | {r['threads']} | {r['load_average']:.1f} |")
     rec = recording_cost.main([])
     lines += ["", "## Recording cost (MCAP, Rerun)", "", recording_cost.markdown(rec)]
+    pub = publishing_cost.main([])
+    lines += ["", "## Publishing cost (the node's frame)", "", publishing_cost.markdown(pub)]
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(lines) + "\n")

@@ -45,8 +45,11 @@ def moving_particles(sim):
     parts = []
     fluid = getattr(sim, "fluid", None)
     if fluid is not None:
-        m = _movable(fluid)
-        parts.append((PHASE_FLUID, fluid.pos[m], fluid.vel[m], fluid.pressure[m], np.zeros(int(m.sum()))))
+        if getattr(fluid, "movable", None) is None:   # every fluid particle moves: views, no masked copies
+            parts.append((PHASE_FLUID, fluid.pos, fluid.vel, fluid.pressure, np.zeros(len(fluid.pos))))
+        else:
+            m = _movable(fluid)
+            parts.append((PHASE_FLUID, fluid.pos[m], fluid.vel[m], fluid.pressure[m], np.zeros(int(m.sum()))))
     solid = getattr(sim, "solid", None)
     if solid is not None:
         m = solid.movable
@@ -72,18 +75,20 @@ def wall_positions(sim):
 def pack_particles(parts):
     """[(code, pos, vel, pressure, von Mises)] -> one PARTICLE_DTYPE array, in the order given."""
     n = sum(len(p[1]) for p in parts)
-    out = np.zeros(n, dtype=PARTICLE_DTYPE)   # zeros: the padding bytes are deterministic
+    # Filled as an (n, 9) float32 block (eight float fields and the word holding the phase byte and the padding):
+    # whole-column copies, a few times faster than field by field for a frame of the paper's 33 k particles.
+    words = np.zeros((n, PARTICLE_DTYPE.itemsize // 4), dtype="<f4")   # zeros: the padding bytes are deterministic
+    phase_bytes = words.view(np.uint8).reshape(n, PARTICLE_DTYPE.itemsize)[:, PARTICLE_DTYPE.fields["phase"][1]]
     i = 0
     for code, pos, vel, pressure, vm in parts:
         j = i + len(pos)
-        seg = out[i:j]
-        seg["x"], seg["y"], seg["z"] = pos[:, 0], pos[:, 1], pos[:, 2]
-        seg["vx"], seg["vy"], seg["vz"] = vel[:, 0], vel[:, 1], vel[:, 2]
-        seg["pressure"] = pressure
-        seg["von_mises"] = vm
-        seg["phase"] = code
+        words[i:j, 0:3] = pos
+        words[i:j, 3:6] = vel
+        words[i:j, 6] = pressure
+        words[i:j, 7] = vm
+        phase_bytes[i:j] = code
         i = j
-    return out
+    return words.view(PARTICLE_DTYPE).reshape(n)
 
 
 def particle_points(sim):
