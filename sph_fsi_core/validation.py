@@ -9,6 +9,7 @@ the bound stated with the rung; it is part of CI.
 import json
 import multiprocessing
 import os
+import shutil
 import sys
 import time
 from dataclasses import dataclass
@@ -132,7 +133,29 @@ def run_rung(args):
     return summary
 
 
+def _same_run(rung):
+    """Rungs with the same scene, overrides and duration are one run (the sweep's L = 40 mm is the ladder's H/dp = 4)."""
+    from .scene import load_scene
+    values = load_scene(rung.scene, list(rung.overrides.items())).values   # overrides equal to defaults count alike
+    return rung.scene, repr(sorted(values.items())), rung.periods, rung.end_time
+
+
 def run_rungs(rungs, out_dir, workers=1):
+    first = {}
+    for r in rungs:
+        first.setdefault(_same_run(r), r)
+    repeats = [r for r in rungs if first[_same_run(r)] is not r]
+    summaries = _run_distinct([r for r in rungs if r not in repeats], out_dir, workers)
+    for r in repeats:
+        source = _rung_dir(out_dir, first[_same_run(r)])
+        target = _rung_dir(out_dir, r)
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.copytree(source, target)
+        print(f"  {r.key}: the same run as {first[_same_run(r)].key}", flush=True)
+    return summaries
+
+
+def _run_distinct(rungs, out_dir, workers):
     jobs = [(r, out_dir) for r in rungs]
     if workers > 1:
         # Rungs are independent. Each worker gets cores / workers Numba threads: more threads than cores makes
