@@ -17,7 +17,7 @@ def _fmt(x, spec=".3g"):
 
 def _row(rung, s):
     if s is None:
-        return f"| {rung.case} | {rung.label} | not run | | | | | | | | |"
+        return f"| {rung.case} | {rung.label} | not run | | | | | | | | | |"
     d = s["diverged"]
     stable = "yes" if s["stable"] else f"no: {d['check']} at {d['time']:.4g} s"
     measured = ref = "-"
@@ -37,11 +37,15 @@ def _row(rung, s):
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
     err = f"{100 * s['error']:.2f} %" if s.get("error") is not None else "-"
+    if s.get("frequency_hz") is not None and s.get("reference_hz") and s.get("error") is not None:
+        err = f"{100 * (s['frequency_hz'] / s['reference_hz'] - 1.0):+.2f} %"   # the sign says stiff or soft
+    m = s.get("machine", {})
     moving = s["particles"].get("solid", 0) + s["particles"].get("fluid", 0)
     steps = s["solid_steps"] + s.get("fluid_steps", 0)
     return (f"| {rung.case} | {rung.label} | {s['settings']['numerics.spacing'] * 1e3:.3g} | "
             f"{moving} | {steps} | {s['wall_time_s']:.1f} | "
-            f"{_fmt(s['particle_steps_per_second'] / 1e6, '.3f')} | {measured} | {ref} | {err} | {stable} |")
+            f"{_fmt(s['particle_steps_per_second'] / 1e6, '.3f')} | {measured} | {ref} | {err} | {stable} | "
+            f"{m.get('numba_threads', '-')}, {m.get('commit', '-')} |")
 
 
 def _cantilever_extra(rungs, summaries):
@@ -382,9 +386,9 @@ def write_report(out_dir, rungs, summaries):
         "Made by `sph-fsi validate` (`make validate`); rebuild this page from the stored runs with "
         "`sph-fsi validate --report-only`. Each row is one headless run; its full outputs (summary.json, "
         "timeseries.csv) are under `runs/CASE/RUN/`.", "",
-        f"Machine: {machine.get('cpus')} CPUs, {machine.get('numba_threads')} Numba threads, Python "
-        f"{machine.get('python')}, Numba {machine.get('numba')}, NumPy {machine.get('numpy')}; commit "
-        f"{machine.get('commit')}; report written {datetime.date.today().isoformat()}.", "",
+        f"Machine: {machine.get('cpus')} CPUs, Python {machine.get('python')}, Numba {machine.get('numba')}, "
+        f"NumPy {machine.get('numpy')}; report written {datetime.date.today().isoformat()}. Each run's Numba threads "
+        f"and the commit it ran on are in its row (runs are kept and reported until rerun).", "",
         "Wall time includes setup (scene build, first force evaluation; Numba functions come from the on-disk "
         "cache). Particles: the moving ones' phases plus the solid's clamp (not the fluid's walls); steps: solid + "
         "fluid steps. Particle-steps/s counts every solid particle (clamp included) per solid step and every fluid "
@@ -392,8 +396,8 @@ def write_report(out_dir, rungs, summaries):
         "time only; a value well below the benchmark's (`docs/performance/BENCH.md`) means the run shared the "
         "2 cores with other work and its wall time is inflated by the same factor.", "",
         "| case | run | dp [mm] | particles | steps | wall [s] | M particle-steps/s | measured | reference | "
-        "error | stable |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
+        "error | stable | threads, commit |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rungs:
         lines.append(_row(r, summaries.get(r.key)))
