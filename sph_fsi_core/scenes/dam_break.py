@@ -13,9 +13,7 @@ import numpy as np
 
 from ..references import martin_moyce_front
 from ..schema import Param, SceneError
-from ..state import FluidState, WallState
 from . import tank
-from .built import Built
 from .hydrostatic import check_walls_and_span
 
 PHASES = ("fluid", "walls")
@@ -61,16 +59,8 @@ def build(values):
     nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width")
     nz = tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height")
     ntank = int(round(values["geometry.tank_length"] / dp))
-    ny = values["geometry.span_layers"]
-    layers = values["geometry.wall_layers"]
-    periodic = values["geometry.periodic_y"]
-    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
-    rho0 = values["fluid.density"]
-    scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
-    fluid = FluidState.at_rest(tank.lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
-    walls = WallState.lattice(tank.tank_walls(ntank, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
-    period, lo, hi = tank.period_and_box(ntank, ny, dp, layers, nz_wall * dp, periodic, margin=nz_wall * dp)
-    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period)
+    wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
+    return tank.column_in_tank(values, nx, nz, ntank, margin=wall_top)
 
 
 def front_position(pos, spacing):

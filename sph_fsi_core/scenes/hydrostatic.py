@@ -10,9 +10,7 @@ import math
 import numpy as np
 
 from ..schema import Param, SceneError
-from ..state import FluidState, WallState
 from . import tank
-from .built import Built
 
 PHASES = ("fluid", "walls")
 CONSERVATIVE = False     # gravity does work while the water settles
@@ -65,16 +63,8 @@ def build(values):
     dp = values["numerics.spacing"]
     nx = tank.whole_layers(values["geometry.width"], dp, "geometry.width")
     nz = tank.whole_layers(values["geometry.depth"], dp, "geometry.depth")
-    ny = values["geometry.span_layers"]
-    layers = values["geometry.wall_layers"]
-    periodic = values["geometry.periodic_y"]
-    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
-    rho0 = values["fluid.density"]
-    scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
-    fluid = FluidState.at_rest(tank.lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
-    walls = WallState.lattice(tank.tank_walls(nx, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
-    period, lo, hi = tank.period_and_box(nx, ny, dp, layers, nz_wall * dp, periodic, margin=0.5 * nz_wall * dp)
-    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period)
+    wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
+    return tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
 
 
 def floor_pressure_fit(pos, pressure, width, depth, h):

@@ -5,6 +5,8 @@ continue each other's lattice and the summation density (1) of a fluid particle 
 bulk. The tank's inside is x in [0, length], z >= 0 and, across, y in [0, span]: periodic along y (a slab of
 `span` with no side walls) or closed by walls at y = 0 and y = span.
 """
+import math
+
 import numpy as np
 
 from ..kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
@@ -89,3 +91,21 @@ def outside_tank(pos, length, span, periodic_y, spacing):
     if not periodic_y:
         out |= (pos[:, 1] < -m) | (pos[:, 1] > span + m)
     return out
+
+
+def column_in_tank(values, nx, nz, ntank, margin):
+    """A scene's Built: water on nx x ny x nz sites at the tank's upstream end (x from 0), in a tank ntank sites long
+    with the walls the values ask for (layers, height, periodic or closed across), and a domain `margin` beyond."""
+    from ..state import FluidState, WallState
+    from .built import Built
+    dp = values["numerics.spacing"]
+    ny = values["geometry.span_layers"]
+    layers = values["geometry.wall_layers"]
+    periodic = values["geometry.periodic_y"]
+    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
+    rho0 = values["fluid.density"]
+    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
+    fluid = FluidState.at_rest(lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
+    walls = WallState.lattice(tank_walls(ntank, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
+    period, lo, hi = period_and_box(ntank, ny, dp, layers, nz_wall * dp, periodic, margin=margin)
+    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period)
