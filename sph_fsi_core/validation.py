@@ -103,10 +103,11 @@ def _gate_rungs():
                               note=f"dp = {dp * 1e3:.3g} mm, coupling {model}; free end vs Antoci et al. 2007"))
     # With three layers through the 5 mm gate the default quadratic-fit solid is determined; the scene pins Gray's
     # SPH gradient (its runs' scheme), which is too stiff at this gate's L/H = 16 (FINDINGS.md).
-    rungs.append(Rung("antoci_gate", "pressure_quadratic_dp1.67mm", "antoci_gate",
-                      {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
-                       "solid.velocity_gradient": "quadratic"}, end_time=0.4,
-                      note="dp = 1.67 mm, coupling pressure, solid.velocity_gradient = quadratic"))
+    for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm")):
+        rungs.append(Rung("antoci_gate", f"pressure_quadratic_{label}", "antoci_gate",
+                          {"numerics.spacing": dp, "coupling.model": "pressure",
+                           "solid.velocity_gradient": "quadratic"}, end_time=0.4,
+                          note=f"dp = {dp * 1e3:.3g} mm, coupling pressure, solid.velocity_gradient = quadratic"))
     for dp, label, extra in ((0.002, "dp2mm", {"geometry.gate_clamp_height": 0.004}), (0.001, "dp1mm", {})):
         for model in ("seed", "pressure"):
             rungs.append(Rung("elastic_gate", f"{model}_{label}", "elastic_gate",
