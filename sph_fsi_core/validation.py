@@ -92,15 +92,17 @@ def _gate_rungs():
     """The coupled cases (issue 4), both coupling models at two resolutions each.
 
     antoci_gate: Antoci et al. 2007's measured free end over 0-0.4 s at dp = 2.5 mm (2 particles through the 5 mm
-    gate) and 5/3 mm (3). elastic_gate: the paper's case to t = 0.14 s at 2 mm and at the paper's 1 mm (80k-particle
+    gate) and 5/3 mm (3) with Gray's SPH gradient, and at 5/3 and 1.25 mm (4) with the quadratic fit (the scene's
+    solid since session 3). elastic_gate: the paper's case to t = 0.14 s at 2 mm and at the paper's 1 mm (80k-particle
     class runs: the 1 mm rungs are the long ones). CI runs shorter versions (test/validation/test_gate_quick.py).
     """
     rungs = []
     for dp, label in ((0.0025, "dp2.5mm"), (0.005 / 3, "dp1.67mm")):
         for model in ("pressure", "seed"):
             rungs.append(Rung("antoci_gate", f"{model}_{label}", "antoci_gate",
-                              {"numerics.spacing": dp, "coupling.model": model}, end_time=0.4,
-                              note=f"dp = {dp * 1e3:.3g} mm, coupling {model}; free end vs Antoci et al. 2007"))
+                              {"numerics.spacing": dp, "coupling.model": model, "solid.velocity_gradient": "sph"},
+                              end_time=0.4, note=f"dp = {dp * 1e3:.3g} mm, coupling {model}, Gray's SPH gradient; "
+                                                 f"free end vs Antoci et al. 2007"))
     # With three layers through the 5 mm gate the default quadratic-fit solid is determined; the scene pins Gray's
     # SPH gradient (its runs' scheme), which is too stiff at this gate's L/H = 16 (FINDINGS.md).
     for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm")):

@@ -29,9 +29,11 @@ def test_elastic_gate_coarse(model):
 
 def test_antoci_gate_coarse():
     """Antoci's gate at 2.5 mm to 0.02 s: the free end moves downstream (+x) by millimetres (experiment: 0 at t = 0,
-    12.9 mm at 0.044 s), and barely rises yet (experiment: under 1 mm until 0.04 s)."""
+    12.9 mm at 0.044 s), and barely rises yet (experiment: under 1 mm until 0.04 s). Two layers through the gate
+    at this spacing: too few for the scene's quadratic-fit solid, so Gray's SPH gradient (FINDINGS.md)."""
     rows = []
     spec = load_scene("antoci_gate", [("numerics.spacing", 0.0025), ("coupling.model", "pressure"),
+                                      ("solid.velocity_gradient", "sph"),
                                       ("scene.end_time", 0.02), ("output.snapshot_interval", 0.0),
                                       ("output.timeseries_interval", 0.005)])
     summary = run_scene(spec, None, progress=False, on_sample=lambda sim, row: rows.append(row))
