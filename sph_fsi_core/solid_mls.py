@@ -53,6 +53,15 @@ def _basis(ux, uy, uz, p):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _scaled_offset_and_weight(pos, a, b, period, h, inv_h):
+    """u_ab = (x_b - x_a) / h (minimum image) and W_ab: what the fit's moments and its pair weights are built from."""
+    ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
+    uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
+    uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+    return ux, uy, uz, cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _cholesky_solve_rows(m, rows, nb):
     """Rows 0..2 of m^-1 for the leading nb x nb block of the symmetric m (destroyed); False if not SPD enough."""
     for j in range(nb):
@@ -104,10 +113,7 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
             va = mass[a] / rho[a]
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-                wab = cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
+                ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, h, inv_h)
                 _basis(ux, uy, uz, p)
                 wa = mass[b] / rho[b] * wab
                 wb = va * wab
@@ -208,10 +214,7 @@ def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
         va = mass[a] / rho[a]
         for s in range(start[a], start[a + 1]):
             b = index[s]
-            ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-            uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-            uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-            wab = cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
+            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, h, inv_h)
             _pair_weights(rows[a], ux, uy, uz, 1.0, mass[b] / rho[b] * wab * inv_h, weights[s, 0:3])
             _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, weights[s, 3:6])
 

@@ -199,13 +199,18 @@ def _slug(name):
     return "".join(c if c.isalnum() else "_" for c in name).strip("_")
 
 
-def _energy_drift(run_dir):
-    """Kinetic + strain energy averaged over the run's last quarter over that of its first quarter, minus 1."""
+def _series(run_dir):
+    """The run's timeseries.csv as a list of {column: text} rows ([] when the run wrote none)."""
     path = Path(run_dir) / "timeseries.csv"
     if not path.is_file():
-        return None
+        return []
     with open(path) as fh:
-        rows = list(csv.DictReader(fh))
+        return list(csv.DictReader(fh))
+
+
+def _energy_drift(run_dir):
+    """Kinetic + strain energy averaged over the run's last quarter over that of its first quarter, minus 1."""
+    rows = _series(run_dir)
     if len(rows) < 8 or "strain_energy" not in rows[0]:
         return None
     energy = np.array([float(r["kinetic_energy"]) + float(r["strain_energy"]) for r in rows])
@@ -222,11 +227,7 @@ def _conservative(scene):
 
 def _gate_response(run_dir):
     """Coupled scenes: the free end's largest x displacement and its time, and the water past the gate at the end."""
-    path = Path(run_dir) / "timeseries.csv"
-    if not path.is_file():
-        return {}
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
+    rows = _series(run_dir)
     if not rows or "water_past_gate" not in rows[0]:
         return {}
     dx = np.array([float(r["tip_dx"]) for r in rows])
@@ -237,12 +238,7 @@ def _gate_response(run_dir):
 
 def _outputs_finite(run_dir):
     """No NaN or inf in timeseries.csv: a diverged run stops before anything non-finite is written."""
-    path = Path(run_dir) / "timeseries.csv"
-    if not path.is_file():
-        return True
-    with open(path) as fh:
-        rows = list(csv.reader(fh))[1:]
-    return all(math.isfinite(float(x)) for r in rows for x in r)
+    return all(math.isfinite(float(x)) for r in _series(run_dir) for x in r.values())
 
 
 def outcome_ok(row):
