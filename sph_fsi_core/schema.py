@@ -142,8 +142,10 @@ SOLID = [
        high=10.0, rebuild=False),
     _p("solid.artificial_viscosity_beta", 0.0, "1", "Monaghan artificial viscosity beta (quadratic term)",
        low=0.0, high=10.0, rebuild=False),
-    _p("solid.artificial_stress_epsilon", 0.15, "1", "Gray's artificial stress epsilon (0: off)", low=0.0,
-       high=1.0, rebuild=False),
+    _p("solid.artificial_stress_epsilon", 0.0, "1",
+       "Gray's artificial stress epsilon (0: off). The paper's 'sph' gradient needs it against the tensile "
+       "instability (0.15; Gray: 0.3); the quadratic fit needs none, and with it a nearly incompressible body grows "
+       "a spurious mode (docs/method.md)", low=0.0, high=1.0, rebuild=False),
     _p("solid.artificial_stress_exponent", 4, "1", "Gray's artificial stress exponent n in f_ab^n", kind="int",
        low=1, high=12, rebuild=False),
 ]
