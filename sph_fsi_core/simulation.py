@@ -181,19 +181,27 @@ class Simulation:
                 f"three layers")
 
     def _warn_about_artificial_stress(self):
-        """Gray's artificial stress suits the paper's SPH gradient and harms the quadratic fit (docs/method.md)."""
+        """Gray's artificial stress suits the paper's SPH gradient and harms the quadratic fit (docs/method.md).
+
+        Re-evaluated when the settings change live (the epsilon is a live key): the previous such warning goes.
+        """
         v = self.spec.values
         eps, scheme = v["solid.artificial_stress_epsilon"], v["solid.velocity_gradient"]
+        warning = None
         if scheme == "sph" and eps == 0.0:
-            self.warnings.append(
-                "solid.velocity_gradient = sph without artificial stress (solid.artificial_stress_epsilon = 0): "
-                "particles under tension may pair up (the tensile instability); 0.15 is the tested value")
+            warning = ("solid.velocity_gradient = sph without artificial stress (solid.artificial_stress_epsilon = "
+                       "0): particles under tension may pair up (the tensile instability); 0.15 is the tested value")
         elif scheme == "quadratic" and eps > 0.0 and v["solid.poisson_ratio"] >= 0.45:
-            self.warnings.append(
-                f"solid.artificial_stress_epsilon = {eps:g} with the quadratic fit and solid.poisson_ratio = "
-                f"{v['solid.poisson_ratio']:g}: the artificial stress is not paired with the strain rate, and in a "
-                f"nearly incompressible body it feeds a spurious mode that grows at fine spacings (the paper's beam "
-                f"diverged at H/dp = 8); the quadratic fit needs none: set it to 0")
+            warning = (f"solid.artificial_stress_epsilon = {eps:g} with the quadratic fit and solid.poisson_ratio = "
+                       f"{v['solid.poisson_ratio']:g}: the artificial stress is not paired with the strain rate, and "
+                       f"in a nearly incompressible body it feeds a spurious mode that grows at fine spacings (the "
+                       f"paper's beam diverged at H/dp = 8); the quadratic fit needs none: set it to 0")
+        previous = getattr(self, "_artificial_stress_warning", None)
+        if previous in self.warnings and previous != warning:
+            self.warnings.remove(previous)
+        if warning is not None and warning not in self.warnings:
+            self.warnings.append(warning)
+        self._artificial_stress_warning = warning
 
     def _solid_acceleration(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
@@ -228,6 +236,7 @@ class Simulation:
         self.spec = live_spec
         if self.solid is not None:
             self._apply_solid_settings()
+            self._warn_about_artificial_stress()
         if self.fluid is not None:
             self._apply_fluid_settings()
         if self.coupling is not None:

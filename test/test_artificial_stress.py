@@ -104,3 +104,12 @@ def test_warnings_name_the_risky_artificial_stress_settings():
     paper = Simulation(load_scene("cantilever", ["solid.velocity_gradient=sph",
                                                  "solid.artificial_stress_epsilon=0.15"]))
     assert not any("artificial" in w for w in paper.warnings)
+
+
+def test_live_change_of_the_artificial_stress_updates_its_warning():
+    sim = Simulation(load_scene("cantilever", ["geometry.length=0.012", "output.snapshot_interval=0"]))
+    assert not any("artificial" in w for w in sim.warnings)
+    sim.apply({"solid.artificial_stress_epsilon": 0.3})
+    assert sum("solid.artificial_stress_epsilon = 0.3 with the quadratic fit" in w for w in sim.warnings) == 1
+    sim.apply({"solid.artificial_stress_epsilon": 0.0})
+    assert not any("artificial" in w for w in sim.warnings)
