@@ -285,12 +285,13 @@ def write_report(out_dir, rows, machine):
 
 
 def _merged_with_earlier(out_dir, rows):
-    """A rerun of some cases replaces their rows in the earlier table and keeps the others, in the table's order."""
+    """A rerun of some cases replaces their rows in the earlier table and keeps the others, in the table's order;
+    rows of cases that no longer exist (renamed or removed) go."""
     path = Path(out_dir) / "stability.json"
-    earlier = {r["case"]: r for r in json.loads(path.read_text())} if path.is_file() else {}
-    earlier.update({r["case"]: r for r in rows})
     order = [c.name for c in all_cases()]
-    return sorted(earlier.values(), key=lambda r: order.index(r["case"]) if r["case"] in order else len(order))
+    earlier = {r["case"]: r for r in json.loads(path.read_text()) if r["case"] in order} if path.is_file() else {}
+    earlier.update({r["case"]: r for r in rows})
+    return sorted(earlier.values(), key=lambda r: order.index(r["case"]))
 
 
 def main(ci=False, out_dir="docs/validation", names=()):

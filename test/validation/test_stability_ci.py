@@ -89,3 +89,13 @@ def test_tall_column_runs_with_the_step_its_speed_dictates(rows):
     row = results["dam break, 10x taller column"]
     assert row["outcome"] == "stable" and row["outputs_finite"]
     assert row["fluid_capped_steps"] == 0
+
+
+def test_a_partial_rerun_replaces_its_rows_and_drops_cases_that_no_longer_exist(tmp_path):
+    import json
+    names = [c.name for c in stability.all_cases()]
+    earlier = [{"case": names[0], "outcome": "old"}, {"case": names[1], "outcome": "old"},
+               {"case": "a case renamed since", "outcome": "old"}]
+    (tmp_path / "stability.json").write_text(json.dumps(earlier))
+    merged = stability._merged_with_earlier(tmp_path, [{"case": names[1], "outcome": "new"}])
+    assert [(r["case"], r["outcome"]) for r in merged] == [(names[0], "old"), (names[1], "new")]
