@@ -58,6 +58,7 @@ class Simulation:
         self.last_solid_dt = 0.0
         self.last_substeps = 0
         self.warnings = []
+        self._artificial_stress_warning = None   # the one warning that follows live changes
         self.neighbour_builds = 0
         if self.solid is not None:
             self._initial_positions = self.solid.pos.copy()
@@ -196,7 +197,7 @@ class Simulation:
                        f"{v['solid.poisson_ratio']:g}: the artificial stress is not paired with the strain rate, and "
                        f"in a nearly incompressible body it feeds a spurious mode that grows at fine spacings (the "
                        f"paper's beam diverged at H/dp = 8); the quadratic fit needs none: set it to 0")
-        previous = getattr(self, "_artificial_stress_warning", None)
+        previous = self._artificial_stress_warning
         if previous in self.warnings and previous != warning:
             self.warnings.remove(previous)
         if warning is not None and warning not in self.warnings:
