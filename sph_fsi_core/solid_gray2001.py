@@ -299,14 +299,12 @@ def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rh
 def viscous_and_artificial_stress_terms(vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed,
                                         alpha, beta, art_exponent, inv_w_dp):
     """The pair's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ); r = r_a - r_b."""
-    txx = tyy = tzz = txy = txz = tyz = 0.0
+    txy = txz = tyz = 0.0
     vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
-    if vr < 0.0:
-        mu = h * vr / (r2 + eta2)
-        pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
-        txx -= pi_ab
-        tyy -= pi_ab
-        tzz -= pi_ab
+    # branch-free (receding pairs give mu = 0): approaching and receding pairs alternate unpredictably
+    mu = h * min(vr, 0.0) / (r2 + eta2)
+    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
+    txx = tyy = tzz = -pi_ab
     if art_exponent > 0:
         ratio = wab * inv_w_dp
         if art_exponent == 4:   # Gray's n, the default: two multiplications

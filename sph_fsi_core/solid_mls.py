@@ -168,6 +168,22 @@ def _pair_weights(rows_a, ux, uy, uz, sign, scale, g):
                         + rows_a[r, 8] * qyz)
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _pair_weight_vector(rows_a, lx, ly, lz, qxx, qyy, qzz, qxy, qxz, qyz, scale):
+    """scale * R_a p for p = (l, q) given as scalars, returned as three scalars (kept in registers)."""
+    # summed as a tree: three short dependency chains instead of one of nine additions
+    g0 = ((rows_a[0, 0] * lx + rows_a[0, 1] * ly + rows_a[0, 2] * lz)
+          + (rows_a[0, 3] * qxx + rows_a[0, 4] * qyy + rows_a[0, 5] * qzz)
+          + (rows_a[0, 6] * qxy + rows_a[0, 7] * qxz + rows_a[0, 8] * qyz))
+    g1 = ((rows_a[1, 0] * lx + rows_a[1, 1] * ly + rows_a[1, 2] * lz)
+          + (rows_a[1, 3] * qxx + rows_a[1, 4] * qyy + rows_a[1, 5] * qzz)
+          + (rows_a[1, 6] * qxy + rows_a[1, 7] * qxz + rows_a[1, 8] * qyz))
+    g2 = ((rows_a[2, 0] * lx + rows_a[2, 1] * ly + rows_a[2, 2] * lz)
+          + (rows_a[2, 3] * qxx + rows_a[2, 4] * qyy + rows_a[2, 5] * qzz)
+          + (rows_a[2, 6] * qxy + rows_a[2, 7] * qxz + rows_a[2, 8] * qyz))
+    return scale * g0, scale * g1, scale * g2
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsph_eps, vhat, grad_v, buf):
     """XSPH velocity, eq. (4), and the quadratic-fit velocity gradient L_a = sum_b (v_b - v_a) (x) G_ab.
@@ -181,27 +197,57 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
         out = buf[c]
         out[:, 0:12] = 0.0
         for a in range(c * n // chunks, (c + 1) * n // chunks):
+            # particle a's sums stay in registers; only b's go through the chunk buffer
+            xa = ya = za = 0.0
+            lxx = lxy = lxz = lyx = lyy = lyz = lzx = lzy = lzz = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                gab = weights[s, 0:3]
-                gba = weights[s, 3:6]
                 dvx = vel[b, 0] - vel[a, 0]
                 dvy = vel[b, 1] - vel[a, 1]
                 dvz = vel[b, 2] - vel[a, 2]
                 k = w[s] / (0.5 * (rho[a] + rho[b]))
-                out[a, 0] += mass[b] * k * dvx
-                out[a, 1] += mass[b] * k * dvy
-                out[a, 2] += mass[b] * k * dvz
+                xa += mass[b] * k * dvx
+                ya += mass[b] * k * dvy
+                za += mass[b] * k * dvz
                 out[b, 0] -= mass[a] * k * dvx
                 out[b, 1] -= mass[a] * k * dvy
                 out[b, 2] -= mass[a] * k * dvz
-                for j in range(3):
-                    out[a, 3 + j] += dvx * gab[j]
-                    out[a, 6 + j] += dvy * gab[j]
-                    out[a, 9 + j] += dvz * gab[j]
-                    out[b, 3 + j] -= dvx * gba[j]
-                    out[b, 6 + j] -= dvy * gba[j]
-                    out[b, 9 + j] -= dvz * gba[j]
+                g0 = weights[s, 0]
+                g1 = weights[s, 1]
+                g2 = weights[s, 2]
+                lxx += dvx * g0
+                lxy += dvx * g1
+                lxz += dvx * g2
+                lyx += dvy * g0
+                lyy += dvy * g1
+                lyz += dvy * g2
+                lzx += dvz * g0
+                lzy += dvz * g1
+                lzz += dvz * g2
+                g0 = weights[s, 3]
+                g1 = weights[s, 4]
+                g2 = weights[s, 5]
+                out[b, 3] -= dvx * g0
+                out[b, 4] -= dvx * g1
+                out[b, 5] -= dvx * g2
+                out[b, 6] -= dvy * g0
+                out[b, 7] -= dvy * g1
+                out[b, 8] -= dvy * g2
+                out[b, 9] -= dvz * g0
+                out[b, 10] -= dvz * g1
+                out[b, 11] -= dvz * g2
+            out[a, 0] += xa
+            out[a, 1] += ya
+            out[a, 2] += za
+            out[a, 3] += lxx
+            out[a, 4] += lxy
+            out[a, 5] += lxz
+            out[a, 6] += lyx
+            out[a, 7] += lyy
+            out[a, 8] += lyz
+            out[a, 9] += lzx
+            out[a, 10] += lzy
+            out[a, 11] += lzz
     for a in prange(n):
         sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v)
 
@@ -234,10 +280,13 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
     viscosity and artificial stress keep Gray's pair form m_a m_b (-Pi_ab I + R_ab f_ab^n) . grad_a W_ab.
     sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair caches (w, f and
-    the weights G_ab, G_ba) for the next step's gradient pass.
+    the weights G_ab, G_ba) for the next step's gradient pass. Pairs in the list's skin but beyond the kernel's
+    support get zeros in the caches and no arithmetic. Forces are summed per pair and divided by the mass once per
+    particle.
     """
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
+    support2 = 4.0 * h * h
     sigma_k = 1.0 / (math.pi * h * h * h)
     n = vel.shape[0]
     chunks = buf.shape[0]
@@ -246,34 +295,54 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
         out[:, 0:3] = 0.0
         for a in range(c * n // chunks, (c + 1) * n // chunks):
             va = mass[a] / rho[a]
+            ka = mass[a] * rho[a]
+            sa = sigma_over_rho2[a]
+            fax = fay = faz = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                vb = mass[b] / rho[b]
                 rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
                 ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
                 rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
                 r2 = rx * rx + ry * ry + rz * rz
+                if r2 >= support2:   # in the list's skin, outside the kernel: the pair is idle until it closes in
+                    w[s] = 0.0
+                    f[s] = 0.0
+                    for k in range(6):
+                        weights[s, k] = 0.0
+                    continue
                 wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, sigma_k)
                 w[s] = wab
                 f[s] = fab
                 ux = -rx * inv_h
                 uy = -ry * inv_h
                 uz = -rz * inv_h
-                gab = weights[s, 0:3]
-                gba = weights[s, 3:6]
-                _pair_weights(rows[a], ux, uy, uz, 1.0, vb * wab * inv_h, gab)
-                _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, gba)
+                qxx = 0.5 * ux * ux
+                qyy = 0.5 * uy * uy
+                qzz = 0.5 * uz * uz
+                qxy = ux * uy
+                qxz = ux * uz
+                qyz = uy * uz
+                gab0, gab1, gab2 = _pair_weight_vector(rows[a], ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz,
+                                                       mass[b] / rho[b] * wab * inv_h)
+                gba0, gba1, gba2 = _pair_weight_vector(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz,
+                                                       va * wab * inv_h)
+                weights[s, 0] = gab0
+                weights[s, 1] = gab1
+                weights[s, 2] = gab2
+                weights[s, 3] = gba0
+                weights[s, 4] = gba1
+                weights[s, 5] = gba2
                 # V sigma = m rho (sigma / rho^2)
-                ka = mass[a] * rho[a]
                 kb = mass[b] * rho[b]
-                sa = sigma_over_rho2[a]
-                sb = sigma_over_rho2[b]
-                fx = (ka * (sa[XX] * gab[0] + sa[XY] * gab[1] + sa[XZ] * gab[2])
-                      - kb * (sb[XX] * gba[0] + sb[XY] * gba[1] + sb[XZ] * gba[2]))
-                fy = (ka * (sa[XY] * gab[0] + sa[YY] * gab[1] + sa[YZ] * gab[2])
-                      - kb * (sb[XY] * gba[0] + sb[YY] * gba[1] + sb[YZ] * gba[2]))
-                fz = (ka * (sa[XZ] * gab[0] + sa[YZ] * gab[1] + sa[ZZ] * gab[2])
-                      - kb * (sb[XZ] * gba[0] + sb[YZ] * gba[1] + sb[ZZ] * gba[2]))
+                fx = (ka * (sa[XX] * gab0 + sa[XY] * gab1 + sa[XZ] * gab2)
+                      - kb * (sigma_over_rho2[b, XX] * gba0 + sigma_over_rho2[b, XY] * gba1
+                              + sigma_over_rho2[b, XZ] * gba2))
+                fy = (ka * (sa[XY] * gab0 + sa[YY] * gab1 + sa[YZ] * gab2)
+                      - kb * (sigma_over_rho2[b, XY] * gba0 + sigma_over_rho2[b, YY] * gba1
+                              + sigma_over_rho2[b, YZ] * gba2))
+                fz = (ka * (sa[XZ] * gab0 + sa[YZ] * gab1 + sa[ZZ] * gab2)
+                      - kb * (sigma_over_rho2[b, XZ] * gba0 + sigma_over_rho2[b, YZ] * gba1
+                              + sigma_over_rho2[b, ZZ] * gba2))
                 txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(
                     vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
                     inv_w_dp)
@@ -284,15 +353,20 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
                 fx += mm * (txx * gx + txy * gy + txz * gz)
                 fy += mm * (txy * gx + tyy * gy + tyz * gz)
                 fz += mm * (txz * gx + tyz * gy + tzz * gz)
-                out[a, 0] += fx / mass[a]
-                out[a, 1] += fy / mass[a]
-                out[a, 2] += fz / mass[a]
-                out[b, 0] -= fx / mass[b]
-                out[b, 1] -= fy / mass[b]
-                out[b, 2] -= fz / mass[b]
+                # forces here, accelerations once per particle below (one division instead of six per pair)
+                fax += fx
+                fay += fy
+                faz += fz
+                out[b, 0] -= fx
+                out[b, 1] -= fy
+                out[b, 2] -= fz
+            out[a, 0] += fax
+            out[a, 1] += fay
+            out[a, 2] += faz
     for a in prange(n):
+        inv_m = 1.0 / mass[a]
         for k in range(3):
-            total = body_acc[k]
+            total = 0.0
             for c in range(chunks):
                 total += buf[c, a, k]
-            acc[a, k] = total
+            acc[a, k] = body_acc[k] + total * inv_m
