@@ -206,6 +206,8 @@ def _print_summary(s, out):
               f"error {100 * s['error']:.2f} %; damping ratio {s['damping_ratio']:.4f}")
         print(f"  vs Euler-Bernoulli {s['euler_bernoulli_hz']:.3f} Hz: {s['error_vs_euler_bernoulli_percent']:+.2f} %; "
               f"vs eq. (15) {s['eq15_hz']:.3f} Hz: {s['error_vs_eq15_percent']:+.2f} %")
+    if s.get("frequency_note"):
+        print(f"frequency: {s['frequency_note']}")
     print(f"outputs: {out}/timeseries.csv, {out}/summary.json, {out}/snapshots/")
 
 
