@@ -151,24 +151,6 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _pair_weights(rows_a, ux, uy, uz, sign, scale, g):
-    """g = scale * R_a p(sign * u): one particle's gradient weights G for the pair (the 1/h and V_b W_ab in scale)."""
-    lx = sign * ux
-    ly = sign * uy
-    lz = sign * uz
-    qxx = 0.5 * ux * ux
-    qyy = 0.5 * uy * uy
-    qzz = 0.5 * uz * uz
-    qxy = ux * uy
-    qxz = ux * uz
-    qyz = uy * uz
-    for r in range(3):
-        g[r] = scale * (rows_a[r, 0] * lx + rows_a[r, 1] * ly + rows_a[r, 2] * lz + rows_a[r, 3] * qxx
-                        + rows_a[r, 4] * qyy + rows_a[r, 5] * qzz + rows_a[r, 6] * qxy + rows_a[r, 7] * qxz
-                        + rows_a[r, 8] * qyz)
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _pair_weight_vector(rows_a, lx, ly, lz, qxx, qyy, qzz, qxy, qxz, qyz, scale):
     """scale * R_a p for p = (l, q) given as scalars, returned as three scalars (kept in registers)."""
     # summed as a tree: three short dependency chains instead of one of nine additions
@@ -182,6 +164,27 @@ def _pair_weight_vector(rows_a, lx, ly, lz, qxx, qyy, qzz, qxy, qxz, qyz, scale)
           + (rows_a[2, 3] * qxx + rows_a[2, 4] * qyy + rows_a[2, 5] * qzz)
           + (rows_a[2, 6] * qxy + rows_a[2, 7] * qxz + rows_a[2, 8] * qyz))
     return scale * g0, scale * g1, scale * g2
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _store_pair_weights(rows, a, b, ux, uy, uz, scale_ab, scale_ba, weights, s):
+    """The pair's G_ab = scale_ab R_a p(u) and G_ba = scale_ba R_b p(-u) into weights[s], also returned as six
+    scalars; u = (x_b - x_a) / h, the scales carry V W_ab / h of the other particle."""
+    qxx = 0.5 * ux * ux
+    qyy = 0.5 * uy * uy
+    qzz = 0.5 * uz * uz
+    qxy = ux * uy
+    qxz = ux * uz
+    qyz = uy * uz
+    gab0, gab1, gab2 = _pair_weight_vector(rows[a], ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz, scale_ab)
+    gba0, gba1, gba2 = _pair_weight_vector(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz, scale_ba)
+    weights[s, 0] = gab0
+    weights[s, 1] = gab1
+    weights[s, 2] = gab2
+    weights[s, 3] = gba0
+    weights[s, 4] = gba1
+    weights[s, 5] = gba2
+    return gab0, gab1, gab2, gba0, gba1, gba2
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -261,8 +264,7 @@ def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
         for s in range(start[a], start[a + 1]):
             b = index[s]
             ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, h, inv_h)
-            _pair_weights(rows[a], ux, uy, uz, 1.0, mass[b] / rho[b] * wab * inv_h, weights[s, 0:3])
-            _pair_weights(rows[b], ux, uy, uz, -1.0, va * wab * inv_h, weights[s, 3:6])
+            _store_pair_weights(rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -316,22 +318,8 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
                 ux = -rx * inv_h
                 uy = -ry * inv_h
                 uz = -rz * inv_h
-                qxx = 0.5 * ux * ux
-                qyy = 0.5 * uy * uy
-                qzz = 0.5 * uz * uz
-                qxy = ux * uy
-                qxz = ux * uz
-                qyz = uy * uz
-                gab0, gab1, gab2 = _pair_weight_vector(rows[a], ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz,
-                                                       mass[b] / rho[b] * wab * inv_h)
-                gba0, gba1, gba2 = _pair_weight_vector(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz,
-                                                       va * wab * inv_h)
-                weights[s, 0] = gab0
-                weights[s, 1] = gab1
-                weights[s, 2] = gab2
-                weights[s, 3] = gba0
-                weights[s, 4] = gba1
-                weights[s, 5] = gba2
+                gab0, gab1, gab2, gba0, gba1, gba2 = _store_pair_weights(
+                    rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
                 # V sigma = m rho (sigma / rho^2)
                 kb = mass[b] * rho[b]
                 fx = (ka * (sa[XX] * gab0 + sa[XY] * gab1 + sa[XZ] * gab2)
