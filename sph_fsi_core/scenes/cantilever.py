@@ -96,11 +96,11 @@ def evaluate(series, values):
     refs = cantilever_references(values["geometry.length"], values["geometry.thickness"],
                                  values["geometry.width"], values["solid.young_modulus"],
                                  values["solid.poisson_ratio"], values["solid.density"])
+    metric = f"relative frequency error against {refs['judged_against']} ({refs['fe3d_source']})"
     covered = (float(t[-1] - t[0]) if len(t) else 0.0) * refs["reference_hz"]
     if covered < MIN_REFERENCE_PERIODS:
         # a part of one swing has crossings of ripples about its own mean, which would pass for a frequency
-        return {"frequency_hz": None, "periods": None, **refs,
-                "error_metric": f"relative frequency error against {refs['judged_against']}", "error": None,
+        return {"frequency_hz": None, "periods": None, **refs, "error_metric": metric, "error": None,
                 "frequency_note": f"not measured: the run covers {covered:.2f} periods of the expected "
                                   f"{refs['reference_hz']:.4g} Hz; at least {MIN_REFERENCE_PERIODS:g} are needed"}
     est = measure_frequency(t, z)
@@ -112,7 +112,7 @@ def evaluate(series, values):
         out[f"error_vs_{name[:-3]}_percent"] = (100.0 * (f - ref) / ref if ref and math.isfinite(f)
                                                 else None)
     ref = refs["reference_hz"]
-    out["error_metric"] = f"relative frequency error against {refs['judged_against']} ({refs['fe3d_source']})"
+    out["error_metric"] = metric
     out["error"] = abs(f - ref) / ref if math.isfinite(f) else None
     zeta, zeta_err = (damping_ratio(t, z, f) if math.isfinite(f) else (float("nan"), float("nan")))
     out["damping_ratio"] = zeta
