@@ -138,6 +138,12 @@ SOLID = [
        "Velocity gradient behind Hooke's law and the pressure: 'sph' Gray 2001's sum (the paper), 'linear' the "
        "kernel-corrected L K^-1, 'quadratic' a quadratic least-squares fit (exact for bending at free surfaces; "
        "see docs/method.md)", kind="str", choices=("sph", "linear", "quadratic")),
+    _p("solid.clamp", "fixed", "",
+       "How the clamp holds the body: 'fixed' clamp particles at rest carrying stress (the paper's; the body bends "
+       "as if up to half a spacing longer), 'mirrored' clamp particles moving as the odd mirror image of the body "
+       "across the clamp face, so the velocity vanishes on the face itself (small deflections near the clamp "
+       "only; docs/method.md)", kind="str",
+       choices=("fixed", "mirrored")),
     _p("solid.artificial_viscosity_alpha", 0.1, "1", "Monaghan artificial viscosity alpha (linear term)", low=0.0,
        high=10.0, rebuild=False),
     _p("solid.artificial_viscosity_beta", 0.0, "1", "Monaghan artificial viscosity beta (quadratic term)",

@@ -20,7 +20,7 @@ from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
 from .solid_gray2001 import material_constants, strain_energy
 from .solid_mls import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
-from .solid_stepper import SolidWork, make_params, solid_acceleration, solid_leapfrog
+from .solid_stepper import SolidWork, make_params, mirror_clamp_velocities, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
 from .scenes.built import check_layout
 from .scenes.tank import lattice_density_scale
@@ -28,6 +28,7 @@ from .scenes.tank import lattice_density_scale
 __all__ = ["Simulation", "Diverged"]
 
 _NO_EXTERNAL = np.zeros((0, 3))
+_NO_MIRROR = np.zeros(0, dtype=np.int64)
 
 
 class Simulation:
@@ -62,6 +63,8 @@ class Simulation:
         self.neighbour_builds = 0
         if self.solid is not None:
             self._initial_positions = self.solid.pos.copy()
+            self.clamp_mirror = self._clamp_mirror(built, v["solid.clamp"])
+            mirror_clamp_velocities(self.solid.vel, self.clamp_mirror)
             self.solid_work = SolidWork(self.solid.count)
             self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h,
                                                   v["numerics.neighbour_skin"] * self.h, period=self.period,
@@ -100,6 +103,15 @@ class Simulation:
             self._apply_fluid_settings()
             self.last_density_error, self.last_density_error_mean = self.fluid_solver.density()
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
+
+    def _clamp_mirror(self, built, clamp):
+        """The ghost clamp's mirror map for solid.clamp = mirrored; empty (the fixed clamp) otherwise."""
+        if clamp == "fixed":
+            return _NO_MIRROR
+        if built.clamp_mirror is None or not (built.clamp_mirror >= 0).any():
+            raise SceneError(f"solid.clamp = {clamp}: scene builder '{self.spec.builder}' has no plane clamp face "
+                             f"to mirror the body across; allowed: fixed")
+        return np.ascontiguousarray(built.clamp_mirror, dtype=np.int64)
 
     def _solid_settings(self, spec):
         """Material constants and pass parameters of `spec`, without touching the state.
@@ -208,7 +220,8 @@ class Simulation:
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
-                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights)
+                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
+                           self.clamp_mirror)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -303,7 +316,8 @@ class Simulation:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
                                s.acc, ext_acc, nb.start, nb.index, self.period, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
-                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights)
+                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
+                               self.clamp_mirror)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()

@@ -324,7 +324,7 @@ def viscous_and_artificial_stress_terms(vel, rho, art_stress, a, b, rx, ry, rz, 
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
+def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
                   alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv):
     """Eq. (5): dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I + R_ab f_ab^n) . grad_a W_ab + g.
 
@@ -337,6 +337,8 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
     correct_gradient: each particle's stress acts through its kernel-corrected gradient K^-1 grad W (Bonet & Lok
     1999), the counterpart of the corrected velocity gradient, so that stress power and strain rate stay paired;
     the pair terms (viscosity, artificial stress) use the mean of the two. Still antisymmetric per pair.
+    Pairs of two clamp particles (`movable` False) only refresh the cache: their forces act on no moving particle
+    (and with the mirrored clamp they would move the ghosts' images).
     """
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
@@ -358,6 +360,8 @@ def momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, star
                 wab, fab = cubic_spline_wf(r, inv_h, sigma)
                 w[s] = wab
                 f[s] = fab
+                if not (movable[a] or movable[b]):
+                    continue
                 if correct_gradient:
                     # K_a^-1 g and K_b^-1 g for the two particles' own stresses
                     gx = fab * rx

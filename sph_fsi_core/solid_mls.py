@@ -275,7 +275,7 @@ def velocity_divergence_rate(rho, grad_v, drho):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
+def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
                       alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
 
@@ -283,8 +283,9 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
     viscosity and artificial stress keep Gray's pair form m_a m_b (-Pi_ab I + R_ab f_ab^n) . grad_a W_ab.
     sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair caches (w, f and
     the weights G_ab, G_ba) for the next step's gradient pass. Pairs in the list's skin but beyond the kernel's
-    support get zeros in the caches and no arithmetic. Forces are summed per pair and divided by the mass once per
-    particle.
+    support get zeros in the caches and no arithmetic; so do pairs of two clamp particles (`movable` False), whose
+    forces act on no moving particle (with the mirrored clamp they would move the ghosts' images: the ghosts'
+    relative motion is not the material's). Forces are summed per pair and divided by the mass once per particle.
     """
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
@@ -320,6 +321,8 @@ def momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, 
                 uz = -rz * inv_h
                 gab0, gab1, gab2, gba0, gba1, gba2 = _store_pair_weights(
                     rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
+                if not (movable[a] or movable[b]):
+                    continue
                 # V sigma = m rho (sigma / rho^2)
                 kb = mass[b] * rho[b]
                 fx = (ka * (sa[XX] * gab0 + sa[XY] * gab1 + sa[XZ] * gab2)

@@ -10,8 +10,12 @@ One step of size dt, with a^n the acceleration at r^n (from the previous step):
     v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}                          (kick)
 
 Second order, three passes over the pairs per step. The artificial viscosity in a^{n+1}
-uses v^{n+1/2} (the velocity at n+1 is not known yet). Clamp particles (movable False) keep v = 0 and r fixed
-but update rho and S. The loop returns early when the neighbour list may go stale within the next step, so
+uses v^{n+1/2} (the velocity at n+1 is not known yet). With solid.clamp = fixed, clamp particles (movable False)
+keep v = 0 and r fixed but update rho and S (clamp material whose particles are held); with solid.clamp = mirrored
+(`clamp_mirror` not empty) those behind the body are ghosts of it: v_g = -v_m and displacement u_g = -u_m of their
+mirror image m across the clamp face, so velocity and displacement vanish on the face, and they carry no stress
+(the wall does no work); the forces the body's stress puts on a ghost are moved to its image with the opposite sign, the force whose
+power is the body's stress power with the ghosts' velocities substituted, so the scheme stays conservative. The loop returns early when the neighbour list may go stale within the next step, so
 the caller can rebuild it (a rebuild is never needed mid-step).
 """
 import math
@@ -90,20 +94,47 @@ class SolidWork:
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def mirror_clamp_velocities(vel, clamp_mirror):
+    """Ghost clamp (solid.clamp = mirrored): v_g = -v_m, the odd image of the body's velocity across the face."""
+    for g in range(clamp_mirror.shape[0]):
+        m = clamp_mirror[g]
+        if m >= 0:
+            for k in range(3):
+                vel[g, k] = -vel[m, k]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def fold_clamp_forces(acc, mass, body, clamp_mirror):
+    """Ghost clamp: the pair forces on ghost g act on its image m with the opposite sign (v_g = -v_m).
+
+    The power of a force F_g on the ghost is F_g . v_g = -F_g . v_m, so -F_g is the force on m that does the same
+    work; `acc` of the ghost holds the body force too, which is not a pair force and is left out.
+    """
+    for g in range(clamp_mirror.shape[0]):
+        m = clamp_mirror[g]
+        if m >= 0:
+            ratio = mass[g] / mass[m]
+            for k in range(3):
+                acc[m, k] -= (acc[g, k] - body[k]) * ratio
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights):
+                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
+                       clamp_mirror):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.gradient_order == 2:
-        momentum_rate_mls(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
+        momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
                           prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
                           mls_weights, buf)
     else:
-        momentum_rate(pos, period, mass, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
+        momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
                       prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
                       prm.gradient_order == 1, kinv)
+    fold_clamp_forces(acc, mass, body, clamp_mirror)
     has_ext = ext_acc.shape[0] == acc.shape[0]
     for a in range(acc.shape[0]):
         if not movable[a]:
@@ -129,13 +160,14 @@ def _max_norm(v):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
-                   w, f, buf, kinv, mls_rows, mls_weights):
+                   w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
     faster than half the skin per step would otherwise stall the run; the watchdog's speed limit catches those).
     """
     n = pos.shape[0]
+    ghost_clamp = clamp_mirror.shape[0] > 0
     for step in range(n_steps):
         # XSPH speed is at most (1 + 2 eps) times the largest neighbour speed; stop before the skin can be crossed.
         reach = dt * (1.0 + 2.0 * prm.xsph_eps) * (_max_norm(vel) + 0.5 * dt * _max_norm(acc))
@@ -145,6 +177,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             if movable[a]:
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
+        mirror_clamp_velocities(vel, clamp_mirror)
         if prm.gradient_order == 2:
             xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v,
                                            buf)
@@ -158,16 +191,23 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         for a in range(n):
-            rho[a] += dt * drho[a]
-            for k in range(6):
-                stress[a, k] += dt * dstress[a, k]
+            if movable[a] or not ghost_clamp:
+                rho[a] += dt * drho[a]
+                for k in range(6):
+                    stress[a, k] += dt * dstress[a, k]
             if movable[a]:
                 for k in range(3):
                     pos[a, k] += dt * vhat[a, k]
+            elif ghost_clamp and clamp_mirror[a] >= 0:
+                # the ghost's displacement is its image's, reversed, as its velocity is
+                for k in range(3):
+                    pos[a, k] -= dt * vhat[clamp_mirror[a], k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights)
+                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
+                           clamp_mirror)
         for a in range(n):
             if movable[a]:
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
+        mirror_clamp_velocities(vel, clamp_mirror)
     return n_steps

@@ -71,8 +71,8 @@ def test_momentum_pass_conserves_momentum_with_and_without_correction():
     nl.build(pos, pos)
     for correct in (False, True):
         acc = np.zeros((n, 3))
-        momentum_rate(pos, np.zeros(3), mass, rho, vel, sig, art, nl.start, nl.index, h, 176.0, 1.0, 1.0, 4,
-                      1.0 / 0.2, np.zeros(3), acc, np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((2, n, 18)),
+        momentum_rate(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sig, art, nl.start,
+                      nl.index, h, 176.0, 1.0, 1.0, 4, 1.0 / 0.2, np.zeros(3), acc, np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((2, n, 18)),
                       correct, kinv)
         total = (mass[:, None] * acc).sum(axis=0)
         scale = (mass[:, None] * np.abs(acc)).sum()
@@ -158,8 +158,8 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     sigma = rng.normal(scale=1e3, size=(n, 6))
     acc = np.zeros((n, 3))
     refreshed = np.zeros_like(weights)
-    momentum_rate_mls(pos, np.zeros(3), mass, rho, vel, sigma / rho[:, None] ** 2, np.zeros((n, 6)), nl.start,
-                      nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, refreshed,
+    momentum_rate_mls(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sigma / rho[:, None] ** 2,
+                      np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, refreshed,
                       np.zeros((2, n, 18)))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()

@@ -15,6 +15,38 @@ class Built:
     domain_lo: np.ndarray = None   # particles leaving this box stop the run as diverged
     domain_hi: np.ndarray = None
     period: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    # solid.clamp = mirrored: for each solid particle, the moving particle at its mirror image across the clamp
+    # face (-1: none, and for moving particles); None if the scene has no plane clamp face
+    clamp_mirror: np.ndarray | None = None
+
+
+def clamp_mirror_across(pos, movable, axis, face, spacing):
+    """Index of the moving particle at each fixed particle's mirror image across the plane pos[:, axis] = face.
+
+    -1 for moving particles and for fixed ones whose image is not a moving particle (e.g. clamp particles beside
+    the body rather than behind it). Builders place bodies on one lattice, so images land on sites exactly; the
+    match is on positions rounded to a hundredth of a spacing.
+    """
+    image = pos.copy()
+    image[:, axis] = 2.0 * face - pos[:, axis]
+    grid = 0.01 * spacing
+
+    lo = np.minimum(pos.min(axis=0), image.min(axis=0))
+    site = np.round((pos - lo) / grid).astype(np.int64)
+    site_image = np.round((image - lo) / grid).astype(np.int64)
+    span = np.maximum(site.max(axis=0), site_image.max(axis=0)) + 1
+    flat = (site[:, 0] * span[1] + site[:, 1]) * span[2] + site[:, 2]
+    flat_image = (site_image[:, 0] * span[1] + site_image[:, 1]) * span[2] + site_image[:, 2]
+    moving = np.flatnonzero(movable)
+    order = np.argsort(flat[moving])
+    sorted_keys = flat[moving][order]
+    fixed = np.flatnonzero(~np.asarray(movable))
+    slot = np.clip(np.searchsorted(sorted_keys, flat_image[fixed]), 0, max(len(sorted_keys) - 1, 0))
+    mirror = np.full(len(pos), -1, dtype=np.int64)
+    if len(sorted_keys):
+        hit = sorted_keys[slot] == flat_image[fixed]
+        mirror[fixed[hit]] = moving[order[slot[hit]]]
+    return mirror
 
 
 def check_layout(built, spacing):

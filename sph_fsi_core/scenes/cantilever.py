@@ -13,7 +13,7 @@ from ..oscillation import damping_ratio, measure_frequency, period_averaged
 from ..references import cantilever_mode_velocity, cantilever_references
 from ..schema import Param, SceneError
 from ..state import Probe, SolidState
-from .built import Built
+from .built import Built, clamp_mirror_across
 
 PHASES = ("solid",)
 CONSERVATIVE = True
@@ -73,7 +73,8 @@ def build(values):
     span = values["geometry.length"] + 10 * dp
     lo = np.array([-span, -span, -span])
     hi = np.array([2 * span, span, span])
-    return Built(solid=solid, probes=probes, domain_lo=lo, domain_hi=hi)
+    return Built(solid=solid, probes=probes, domain_lo=lo, domain_hi=hi,
+                 clamp_mirror=clamp_mirror_across(pos, movable, 0, 0.0, dp))
 
 
 def sample(solid, probes):

@@ -22,7 +22,7 @@ import numpy as np
 from ..schema import Param, SceneError
 from ..state import FluidState, Probe, SolidState, WallState
 from . import tank
-from .built import Built
+from .built import Built, clamp_mirror_across
 
 PHASES = ("solid", "fluid", "walls", "coupling")
 CONSERVATIVE = False     # gravity does work as the water falls
@@ -139,7 +139,7 @@ def build(values):
     hi = np.array([xhi, span, top + margin])
     period = np.array([0.0, span, 0.0])
     return Built(solid=solid, fluid=fluid, walls=wall_state, probes=probes, domain_lo=lo, domain_hi=hi,
-                 period=period)
+                 period=period, clamp_mirror=clamp_mirror_across(gate, movable, 2, (ng + nl) * dp, dp))
 
 
 def effective_geometry(values):
