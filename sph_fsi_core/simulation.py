@@ -19,6 +19,7 @@ from .neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
 from .solid_gray2001 import material_constants, strain_energy
+from .solid_gradient_integration import gradient_strain_energy, hessian_pair_weights
 from .solid_mls import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .solid_stepper import SolidWork, make_params, mirror_clamp_velocities, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
@@ -65,7 +66,10 @@ class Simulation:
             self._initial_positions = self.solid.pos.copy()
             self.clamp_mirror = self._clamp_mirror(built, v["solid.clamp"])
             mirror_clamp_velocities(self.solid.vel, self.clamp_mirror)
-            self.solid_work = SolidWork(self.solid.count)
+            gradient_integration = v["solid.nodal_integration"] == "gradient"
+            if gradient_integration:
+                self.solid.stress_gradient = np.zeros((self.solid.count, 3, 6))
+            self.solid_work = SolidWork(self.solid.count, hessian_rows=gradient_integration)
             self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h,
                                                   v["numerics.neighbour_skin"] * self.h, period=self.period,
                                                   box_lo=built.domain_lo, box_hi=built.domain_hi, half=True)
@@ -127,7 +131,11 @@ class Simulation:
             beta=v["solid.artificial_viscosity_beta"], art_eps=v["solid.artificial_stress_epsilon"],
             art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
             skin=v["numerics.neighbour_skin"] * self.h,
-            velocity_gradient=v["solid.velocity_gradient"])
+            velocity_gradient=v["solid.velocity_gradient"], nodal_integration=v["solid.nodal_integration"])
+        if v["solid.nodal_integration"] == "gradient" and v["solid.velocity_gradient"] != "quadratic":
+            raise SceneError(f"solid.nodal_integration = gradient needs the quadratic fit's second derivatives; "
+                             f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
+                             f"solid.nodal_integration = plain)")
         forced = v["solid.time_step"]
         limit = self._stable_dt(v["solid.cfl"], c0)
         if forced > limit:
@@ -178,6 +186,9 @@ class Simulation:
                 wk.mls_weights = np.zeros((nb.pairs, 6))
             mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
                              wk.mls_weights)
+            if len(wk.hessian):
+                hessian_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
+                                     wk.hessian_weights)
         self.neighbour_builds += 1
 
     def _warn_if_quadratic_fit_falls_back(self):
@@ -221,7 +232,7 @@ class Simulation:
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
                            wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
-                           self.clamp_mirror)
+                           self.clamp_mirror, s.stress_gradient, wk.hessian_weights, wk.scaled_stress_gradient)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -317,7 +328,8 @@ class Simulation:
                                s.acc, ext_acc, nb.start, nb.index, self.period, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
-                               self.clamp_mirror)
+                               self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
+                               wk.hessian_weights, wk.scaled_stress_gradient)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()
@@ -423,6 +435,9 @@ class Simulation:
             out["kinetic_energy"] = kinetic_energy(s.mass, s.vel, s.movable)
             out["strain_energy"] = strain_energy(s.mass, s.rho, s.stress, s.pressure, self.shear_modulus,
                                                  self.bulk_modulus)
+            if len(s.stress_gradient):
+                out["strain_energy"] += gradient_strain_energy(s.mass, s.rho, s.stress_gradient,
+                                                               self.solid_params.cell_moment, self.shear_modulus)
         if self.fluid is not None:
             f = self.fluid
             out["fluid_kinetic_energy"] = float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())

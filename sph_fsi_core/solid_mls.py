@@ -63,7 +63,11 @@ def _scaled_offset_and_weight(pos, a, b, period, h, inv_h):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _cholesky_solve_rows(m, rows, nb):
-    """Rows 0..2 of m^-1 for the leading nb x nb block of the symmetric m (destroyed); False if not SPD enough."""
+    """Rows of m^-1 for the leading nb x nb block of the symmetric m (destroyed); False if not SPD enough.
+
+    rows (R, 9): rows 0..R-1 of the inverse for the full quadratic block (R = 3, or 9 when the Hessian rows are
+    wanted too); rows 0..2 for the linear block, the rest zero.
+    """
     for j in range(nb):
         d = m[j, j]
         for k in range(j):
@@ -77,8 +81,9 @@ def _cholesky_solve_rows(m, rows, nb):
             for k in range(j):
                 s -= m[i, k] * m[j, k]
             m[i, j] = s / d
-    # solve L L^T x = e_r for r = 0, 1, 2; m^-1 is symmetric, so column r is row r
-    for r in range(3):
+    # solve L L^T x = e_r for r = 0, 1, ...; m^-1 is symmetric, so column r is row r
+    nr = rows.shape[0] if nb == N_BASIS else 3
+    for r in range(nr):
         for i in range(nb):
             s = 1.0 if i == r else 0.0
             for k in range(i):
@@ -89,15 +94,19 @@ def _cholesky_solve_rows(m, rows, nb):
             for k in range(i + 1, nb):
                 s -= m[k, i] * rows[r, k]
             rows[r, i] = s / m[i, i]
-    for r in range(3):
+    for r in range(nr):
         for i in range(nb, N_BASIS):
+            rows[r, i] = 0.0
+    for r in range(nr, rows.shape[0]):
+        for i in range(N_BASIS):
             rows[r, i] = 0.0
     return True
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_buf):
-    """R_a (N, 3, 9): rows 0..2 of the inverse weighted moment matrix M_a; order[a] = 2 (quadratic) or 1 (linear).
+    """R_a (N, R, 9): rows 0..R-1 of the inverse weighted moment matrix M_a (R = 3: the gradient; R = 9: and the
+    Hessian, solid_gradient_integration.py); order[a] = 2 (quadratic) or 1 (linear).
 
     One pass over the half list into per-chunk moment sums `moment_buf` (chunks, N, 45), then one small
     Cholesky solve per particle. Call after every neighbour-list build.
@@ -145,7 +154,7 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
             order[a] = 1
         else:   # an isolated particle: no gradient at all
             order[a] = 0
-            for r in range(3):
+            for r in range(rows.shape[1]):
                 for i in range(N_BASIS):
                     rows[a, r, i] = 0.0
 

@@ -29,6 +29,7 @@ from .kernels import cubic_spline_w
 from .neighbours import max_displacement
 from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
                              xsph_velocity_and_gradient)
+from .solid_gradient_integration import gradient_stress_force, stress_gradient_rate, velocity_hessian
 from .solid_mls import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
 # solid.velocity_gradient -> SolidParams.gradient_order
@@ -52,14 +53,16 @@ class SolidParams(NamedTuple):
     gz: float
     half_skin: float
     gradient_order: int    # 0: Gray's SPH gradient (the paper); 1: kernel-corrected L K^-1; 2: quadratic fit
+    cell_moment: float     # m = dp^2 / 12 of the strain-gradient nodal integration (0: off)
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
-                skin, velocity_gradient="sph"):
+                skin, velocity_gradient="sph", nodal_integration="plain"):
     return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
                        beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
-                       half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient])
+                       half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient],
+                       cell_moment=spacing ** 2 / 12.0 if nodal_integration == "gradient" else 0.0)
 
 
 class SolidWork:
@@ -68,7 +71,7 @@ class SolidWork:
     `buf` (chunks, N, 18): per-chunk accumulators of the half-list passes, one chunk per thread.
     """
 
-    def __init__(self, n):
+    def __init__(self, n, hessian_rows=False):
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 18))
         self.vhat = np.zeros((n, 3))
         self.grad_v = np.zeros((n, 3, 3))
@@ -80,7 +83,13 @@ class SolidWork:
         self.eig_work[:, 3:6] = np.eye(3)   # eigenvector guesses, warm-started from step to step
         self.kinv = np.zeros((n, 3, 3))
         self.kinv[:] = np.eye(3)            # kernel-gradient correction K^-1 (identity until first computed)
-        self.mls_rows = np.zeros((n, 3, N_BASIS))   # quadratic fit: rows 0..2 of M^-1 (solid_mls.py)
+        # quadratic fit: rows 0..2 of M^-1 (solid_mls.py), 0..8 with the strain-gradient integration
+        self.mls_rows = np.zeros((n, N_BASIS if hessian_rows else 3, N_BASIS))
+        m = n if hessian_rows else 0   # solid_gradient_integration.py's arrays, empty when it is off
+        self.hessian = np.zeros((m, 3, 6))
+        self.dstress_gradient = np.zeros((m, 3, 6))
+        self.scaled_stress_gradient = np.zeros((m, 3, 6))
+        self.hessian_weights = np.zeros((0, 12))     # pair cache (Gh_ab, Gh_ba)
         self.mls_order = np.zeros(n, dtype=np.int64)
         self.moment_buf = np.zeros((0, 0, 0))       # allocated on first use (chunks, N, 45)
         self.mls_weights = np.zeros((0, 6))          # pair cache (G_ab, G_ba), allocated on first use
@@ -91,6 +100,8 @@ class SolidWork:
         if len(self.w) != npairs:
             self.w = np.zeros(npairs)
             self.f = np.zeros(npairs)
+        if len(self.hessian) and len(self.hessian_weights) != npairs:
+            self.hessian_weights = np.zeros((npairs, 12))
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -121,7 +132,7 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                        prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
-                       clamp_mirror):
+                       clamp_mirror, stress_gradient, hessian_weights, scaled_stress_gradient):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
@@ -130,6 +141,9 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
         momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
                           prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
                           mls_weights, buf)
+        if prm.cell_moment > 0.0:
+            gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, prm.cell_moment, start, index,
+                                  prm.h, mls_rows, hessian_weights, scaled_stress_gradient, acc, buf)
     else:
         momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
                       prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
@@ -160,7 +174,8 @@ def _max_norm(v):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
-                   w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror):
+                   w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
+                   hessian_weights, scaled_stress_gradient):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -190,11 +205,18 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
             velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
+        if prm.cell_moment > 0.0:
+            velocity_hessian(vel, start, index, hessian_weights, hessian, buf)
+            stress_gradient_rate(hessian, grad_v, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:
                 rho[a] += dt * drho[a]
                 for k in range(6):
                     stress[a, k] += dt * dstress[a, k]
+                if prm.cell_moment > 0.0:
+                    for k in range(3):
+                        for c in range(6):
+                            stress_gradient[a, k, c] += dt * dstress_gradient[a, k, c]
             if movable[a]:
                 for k in range(3):
                     pos[a, k] += dt * vhat[a, k]
@@ -204,7 +226,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                     pos[a, k] -= dt * vhat[clamp_mirror[a], k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                            prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
-                           clamp_mirror)
+                           clamp_mirror, stress_gradient, hessian_weights, scaled_stress_gradient)
         for a in range(n):
             if movable[a]:
                 for k in range(3):

@@ -20,6 +20,8 @@ class SolidState:
     surface_normal: np.ndarray = None   # (N, 3) outward unit normal, zero inside (set by coupled scenes)
     acc: np.ndarray = field(default=None)        # (N, 3) m/s^2, acceleration at the current positions
     pressure: np.ndarray = field(default=None)   # (N,) Pa
+    # (N, 3, 6) Pa/m, d_k sigma of solid.nodal_integration = gradient (solid_gradient_integration.py); else (0, 3, 6)
+    stress_gradient: np.ndarray = field(default=None)
 
     def __post_init__(self):
         n = len(self.pos)
@@ -27,6 +29,8 @@ class SolidState:
             self.acc = np.zeros((n, 3))
         if self.pressure is None:
             self.pressure = np.zeros(n)
+        if self.stress_gradient is None:
+            self.stress_gradient = np.zeros((0, 3, 6))
 
     @classmethod
     def at_rest(cls, pos, movable, density, spacing):

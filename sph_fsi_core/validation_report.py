@@ -53,7 +53,7 @@ def _cantilever_extra(rungs, summaries):
     for r in rungs:
         s = summaries.get(r.key)
         if s is None or r.case not in ("cantilever", "cantilever_ladder", "cantilever_length",
-                                                 "cantilever_paper_scheme"):
+                                       "cantilever_paper_scheme", "cantilever_gradient_integration"):
             continue
         if s.get("frequency_hz") is None:
             continue
