@@ -19,7 +19,7 @@ from .neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
 from .solid_gray2001 import material_constants, strain_energy
-from .solid_gradient_integration import gradient_strain_energy, hessian_pair_weights
+from .solid_gradient_integration import gradient_strain_energy
 from .solid_mls import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .solid_stepper import SolidWork, make_params, mirror_clamp_velocities, solid_acceleration, solid_leapfrog
 from .kernels import SUPPORT_RADIUS_IN_H
@@ -186,9 +186,6 @@ class Simulation:
                 wk.mls_weights = np.zeros((nb.pairs, 6))
             mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
                              wk.mls_weights)
-            if len(wk.hessian):
-                hessian_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
-                                     wk.hessian_weights)
         self.neighbour_builds += 1
 
     def _warn_if_quadratic_fit_falls_back(self):
@@ -232,7 +229,7 @@ class Simulation:
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
                            wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
-                           self.clamp_mirror, s.stress_gradient, wk.hessian_weights, wk.scaled_stress_gradient)
+                           self.clamp_mirror, s.stress_gradient, wk.force_rows)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -329,7 +326,7 @@ class Simulation:
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
-                               wk.hessian_weights, wk.scaled_stress_gradient)
+                               wk.force_rows, wk.hessian_moments)
             done += k
             if done < n:
                 self._rebuild_solid_neighbours()

@@ -17,7 +17,7 @@ stiff with its first mode trading energy away within a period (docs/validation/F
 
 The quadratic fit of solid_mls.py already determines the velocity's second derivatives: with rows 3..8 of M_a^-1,
     d_j d_k v_a = sum_b (v_b - v_a) Gh_ab[jk],   Gh_ab = V_b W_ab (rows 3..8 of M_a^-1) p(u_ab) / h^2
-(six entries xx, yy, zz, xy, xz, yz). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is
+(six entries xx, yy, zz, xy, xz, yz; the passes apply the rows once per particle instead of storing Gh per pair). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is
 state:
     dT[k]/dt = 2 G dev(e_k) + Jaumann spin on k, i and j,   e_k = d_k of the strain rate,
 and its force is the one whose power is sum_a V_a m sum_k T_a[k] : d_k L_a (as F_ab of solid_mls.py):
@@ -25,12 +25,9 @@ and its force is the one whose power is sum_a V_a m sum_k T_a[k] : d_k L_a (as F
 so momentum is conserved to round-off and the energy stored is the work done. Particles whose fit fell back to
 linear (fewer than three layers) have zero Hessian rows and no correction.
 """
-import math
-
 import numpy as np
 from numba import njit, prange
 
-from .kernels import cubic_spline_w
 from .neighbours import minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
@@ -42,41 +39,35 @@ _C = ((XX, XY, XZ), (XY, YY, YZ), (XZ, YZ, ZZ))
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _hessian_weights(rows_a, lx, ly, lz, qxx, qyy, qzz, qxy, qxz, qyz, scale, out, s, offset):
-    """out[s, offset + q] = scale * (row 3 + q of M_a^-1) . p, q = 0..5."""
-    for q in range(HESSIAN_ROWS):
-        r = rows_a[3 + q]
-        out[s, offset + q] = scale * ((r[0] * lx + r[1] * ly + r[2] * lz)
-                                      + (r[3] * qxx + r[4] * qyy + r[5] * qzz)
-                                      + (r[6] * qxy + r[7] * qxz + r[8] * qyz))
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _phi(tv, a, gh, s, offset):
-    """Phi_i = sum_jk tv[a, k, (i, j)] Gh[s, offset + q(j, k)], as three scalars."""
-    p0 = p1 = p2 = 0.0
-    for k in range(3):
-        for j in range(3):
-            g = gh[s, offset + _Q[j][k]]
-            p0 += tv[a, k, _C[0][j]] * g
-            p1 += tv[a, k, _C[1][j]] * g
-            p2 += tv[a, k, _C[2][j]] * g
-    return p0, p1, p2
+def _basis_dot(v, ux, uy, uz):
+    """v . p(u) for the quadratic basis p of solid_mls.py."""
+    return ((v[0] * ux + v[1] * uy + v[2] * uz)
+            + 0.5 * (v[3] * ux * ux + v[4] * uy * uy + v[5] * uz * uz)
+            + (v[6] * ux * uy + v[7] * ux * uz + v[8] * uy * uz))
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, cell_moment, start, index, h, rows,
-                          hweights, tv, acc, buf):
-    """Adds the force of the stress gradient (module doc) to `acc`, refreshing the Hessian weights (pairs, 12:
-    Gh_ab then Gh_ba) at the current positions for the next step's Hessian pass. `tv` (N, 3, 6) is scratch."""
+def gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, cell_moment, start, index, h, rows, w,
+                          force_rows, acc, buf):
+    """Adds the force of the stress gradient (module doc) to `acc`; `w` holds W_ab at the current positions.
+
+    With Gh_ab = s_ab R_a^(3..8) p(u), s_ab = V_b W_ab / h^2, the pair term is Phi_ab,i = s_ab A_a[i] . p(u) with
+    A_a[i] = sum_q (V_a m T_a contracted to entry q of the Hessian) R_a^(3+q), nine numbers per i made once per
+    particle (`force_rows`, N x 3 x 9), so a pair costs two 27-term sums and no stored weights.
+    """
     n = pos.shape[0]
     inv_h = 1.0 / h
-    support2 = 4.0 * h * h
     for a in prange(n):
         scale = mass[a] / rho[a] * cell_moment
-        for k in range(3):
-            for c in range(6):
-                tv[a, k, c] = scale * stress_gradient[a, k, c]
+        for i in range(3):
+            for r in range(9):
+                force_rows[a, i, r] = 0.0
+            for j in range(3):
+                for k in range(3):
+                    t = scale * stress_gradient[a, k, _C[i][j]]
+                    q = 3 + _Q[j][k]
+                    for r in range(9):
+                        force_rows[a, i, r] += t * rows[a, q, r]
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
@@ -86,35 +77,22 @@ def gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, cell
             fax = fay = faz = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
+                if w[s] == 0.0 or not (movable[a] or movable[b]):
+                    continue
                 ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
                 uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
                 uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-                r2 = (ux * ux + uy * uy + uz * uz) * h * h
-                if r2 >= support2:
-                    for q in range(2 * HESSIAN_ROWS):
-                        hweights[s, q] = 0.0
-                    continue
-                wab = cubic_spline_w(math.sqrt(r2), h)
-                qxx = 0.5 * ux * ux
-                qyy = 0.5 * uy * uy
-                qzz = 0.5 * uz * uz
-                qxy = ux * uy
-                qxz = ux * uz
-                qyz = uy * uz
-                _hessian_weights(rows[a], ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz,
-                                 mass[b] / rho[b] * wab * inv_h * inv_h, hweights, s, 0)
-                _hessian_weights(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz, va * wab * inv_h * inv_h,
-                                 hweights, s, HESSIAN_ROWS)
-                if not (movable[a] or movable[b]):
-                    continue
-                pa0, pa1, pa2 = _phi(tv, a, hweights, s, 0)
-                pb0, pb1, pb2 = _phi(tv, b, hweights, s, HESSIAN_ROWS)
-                fax += pa0 - pb0
-                fay += pa1 - pb1
-                faz += pa2 - pb2
-                out[b, 0] -= pa0 - pb0
-                out[b, 1] -= pa1 - pb1
-                out[b, 2] -= pa2 - pb2
+                sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
+                sba = va * w[s] * inv_h * inv_h
+                fx = sab * _basis_dot(force_rows[a, 0], ux, uy, uz) - sba * _basis_dot(force_rows[b, 0], -ux, -uy, -uz)
+                fy = sab * _basis_dot(force_rows[a, 1], ux, uy, uz) - sba * _basis_dot(force_rows[b, 1], -ux, -uy, -uz)
+                fz = sab * _basis_dot(force_rows[a, 2], ux, uy, uz) - sba * _basis_dot(force_rows[b, 2], -ux, -uy, -uz)
+                fax += fx
+                fay += fy
+                faz += fz
+                out[b, 0] -= fx
+                out[b, 1] -= fy
+                out[b, 2] -= fz
             out[a, 0] += fax
             out[a, 1] += fay
             out[a, 2] += faz
@@ -128,27 +106,63 @@ def gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, cell
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def velocity_hessian(vel, start, index, hweights, hessian, buf):
-    """hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)], from the cached weights."""
-    n = vel.shape[0]
-    chunks = buf.shape[0]
+def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hessian, moments):
+    """hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)]; `w` holds W_ab at `pos`.
+
+    H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab): the pairs only sum the 27 moments (per-chunk
+    `moments`, chunks x N x 27), the rows are applied once per particle.
+    """
+    n = pos.shape[0]
+    inv_h = 1.0 / h
+    chunks = moments.shape[0]
     for c in prange(chunks):
-        out = buf[c]
-        out[:, 0:18] = 0.0
+        out = moments[c]
+        out[:, :] = 0.0
+        p = np.empty(9)
+        own = np.empty(27)    # particle a's moments, kept out of the shared buffer until its pairs are done
         for a in range(c * n // chunks, (c + 1) * n // chunks):
+            va = mass[a] / rho[a]
+            own[:] = 0.0
             for s in range(start[a], start[a + 1]):
+                if w[s] == 0.0:
+                    continue
                 b = index[s]
+                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
+                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
+                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+                p[0] = ux
+                p[1] = uy
+                p[2] = uz
+                p[3] = 0.5 * ux * ux
+                p[4] = 0.5 * uy * uy
+                p[5] = 0.5 * uz * uz
+                p[6] = ux * uy
+                p[7] = ux * uz
+                p[8] = uy * uz
+                sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
+                sba = va * w[s] * inv_h * inv_h
                 for i in range(3):
                     dv = vel[b, i] - vel[a, i]
-                    for q in range(HESSIAN_ROWS):
-                        out[a, 6 * i + q] += dv * hweights[s, q]
-                        out[b, 6 * i + q] -= dv * hweights[s, HESSIAN_ROWS + q]
+                    ka = dv * sab
+                    kb = dv * sba
+                    # b sees -u (linear entries change sign) and the velocity difference -dv
+                    for r in range(3):
+                        own[9 * i + r] += ka * p[r]
+                        out[b, 9 * i + r] += kb * p[r]
+                    for r in range(3, 9):
+                        own[9 * i + r] += ka * p[r]
+                        out[b, 9 * i + r] -= kb * p[r]
+            for r in range(27):
+                out[a, r] += own[r]
     for a in prange(n):
+        for c in range(1, chunks):
+            for r in range(27):
+                moments[0, a, r] += moments[c, a, r]
         for i in range(3):
             for q in range(HESSIAN_ROWS):
                 total = 0.0
-                for c in range(chunks):
-                    total += buf[c, a, 6 * i + q]
+                for r in range(9):
+                    total += rows[a, 3 + q, r] * moments[0, a, 9 * i + r]
                 hessian[a, i, q] = total
 
 
@@ -159,29 +173,20 @@ def stress_gradient_rate(hessian, grad_v, stress_gradient, shear_modulus, rate):
     The spin W = (L - L^T) / 2 turns all three indices of T: Omega_kl T[l]_ij + Omega_il T[k]_lj + Omega_jl T[k]_il,
     so a rigidly rotating bent body keeps its stress gradient (the Jaumann rate of solid_gray2001.py, one index more).
     """
+    g2 = 2.0 * shear_modulus
     for a in prange(hessian.shape[0]):
-        om = np.empty((3, 3))
-        for i in range(3):
-            for j in range(3):
-                om[i, j] = 0.5 * (grad_v[a, i, j] - grad_v[a, j, i])
-        t = np.empty((3, 3, 3))
+        sg = stress_gradient[a]
         for k in range(3):
-            for i in range(3):
-                for j in range(3):
-                    t[k, i, j] = stress_gradient[a, k, _C[i][j]]
-        for k in range(3):
-            e = np.empty((3, 3))
-            for i in range(3):
-                for j in range(3):
-                    e[i, j] = 0.5 * (hessian[a, i, _Q[j][k]] + hessian[a, j, _Q[i][k]])
-            tr = e[0, 0] + e[1, 1] + e[2, 2]
+            tr = hessian[a, 0, _Q[0][k]] + hessian[a, 1, _Q[1][k]] + hessian[a, 2, _Q[2][k]]
             for i in range(3):
                 for j in range(i, 3):
-                    value = 2.0 * shear_modulus * e[i, j]
+                    value = 0.5 * g2 * (hessian[a, i, _Q[j][k]] + hessian[a, j, _Q[i][k]])
                     if i == j:
-                        value -= 2.0 * shear_modulus / 3.0 * tr
+                        value -= g2 / 3.0 * tr
                     for m in range(3):
-                        value += om[k, m] * t[m, i, j] + om[i, m] * t[k, m, j] + om[j, m] * t[k, i, m]
+                        value += (0.5 * (grad_v[a, k, m] - grad_v[a, m, k]) * sg[m, _C[i][j]]
+                                  + 0.5 * (grad_v[a, i, m] - grad_v[a, m, i]) * sg[k, _C[m][j]]
+                                  + 0.5 * (grad_v[a, j, m] - grad_v[a, m, j]) * sg[k, _C[i][m]])
                     rate[a, k, _C[i][j]] = value
 
 
@@ -196,26 +201,3 @@ def gradient_strain_energy(mass, rho, stress_gradient, cell_moment, shear_modulu
             total += mass[a] / rho[a] * cell_moment * tt / (4.0 * shear_modulus)
     return total
 
-
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def hessian_pair_weights(pos, period, mass, rho, start, index, h, rows, hweights):
-    """The pair cache `hweights` (pairs, 12) = (Gh_ab, Gh_ba) at the current positions (after a list build)."""
-    inv_h = 1.0 / h
-    for a in prange(pos.shape[0]):
-        va = mass[a] / rho[a]
-        for s in range(start[a], start[a + 1]):
-            b = index[s]
-            ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-            uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-            uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-            wab = cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
-            qxx = 0.5 * ux * ux
-            qyy = 0.5 * uy * uy
-            qzz = 0.5 * uz * uz
-            qxy = ux * uy
-            qxz = ux * uz
-            qyz = uy * uz
-            _hessian_weights(rows[a], ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz,
-                             mass[b] / rho[b] * wab * inv_h * inv_h, hweights, s, 0)
-            _hessian_weights(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz, va * wab * inv_h * inv_h,
-                             hweights, s, HESSIAN_ROWS)

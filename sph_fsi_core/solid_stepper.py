@@ -88,8 +88,8 @@ class SolidWork:
         m = n if hessian_rows else 0   # solid_gradient_integration.py's arrays, empty when it is off
         self.hessian = np.zeros((m, 3, 6))
         self.dstress_gradient = np.zeros((m, 3, 6))
-        self.scaled_stress_gradient = np.zeros((m, 3, 6))
-        self.hessian_weights = np.zeros((0, 12))     # pair cache (Gh_ab, Gh_ba)
+        self.force_rows = np.zeros((m, 3, N_BASIS))
+        self.hessian_moments = np.zeros((self.buf.shape[0], m, 3 * N_BASIS))
         self.mls_order = np.zeros(n, dtype=np.int64)
         self.moment_buf = np.zeros((0, 0, 0))       # allocated on first use (chunks, N, 45)
         self.mls_weights = np.zeros((0, 6))          # pair cache (G_ab, G_ba), allocated on first use
@@ -100,8 +100,7 @@ class SolidWork:
         if len(self.w) != npairs:
             self.w = np.zeros(npairs)
             self.f = np.zeros(npairs)
-        if len(self.hessian) and len(self.hessian_weights) != npairs:
-            self.hessian_weights = np.zeros((npairs, 12))
+
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -132,7 +131,7 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                        prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
-                       clamp_mirror, stress_gradient, hessian_weights, scaled_stress_gradient):
+                       clamp_mirror, stress_gradient, force_rows):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
@@ -143,7 +142,7 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
                           mls_weights, buf)
         if prm.cell_moment > 0.0:
             gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, prm.cell_moment, start, index,
-                                  prm.h, mls_rows, hessian_weights, scaled_stress_gradient, acc, buf)
+                                  prm.h, mls_rows, w, force_rows, acc, buf)
     else:
         momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
                       prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
@@ -175,7 +174,7 @@ def _max_norm(v):
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
                    w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
-                   hessian_weights, scaled_stress_gradient):
+                   force_rows, hessian_moments):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -206,7 +205,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         if prm.cell_moment > 0.0:
-            velocity_hessian(vel, start, index, hessian_weights, hessian, buf)
+            velocity_hessian(pos, period, mass, rho, vel, start, index, prm.h, mls_rows, w, hessian, hessian_moments)
             stress_gradient_rate(hessian, grad_v, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:
@@ -226,7 +225,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                     pos[a, k] -= dt * vhat[clamp_mirror[a], k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                            prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
-                           clamp_mirror, stress_gradient, hessian_weights, scaled_stress_gradient)
+                           clamp_mirror, stress_gradient, force_rows)
         for a in range(n):
             if movable[a]:
                 for k in range(3):

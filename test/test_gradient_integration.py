@@ -9,8 +9,7 @@ from sph_fsi_core.oscillation import measure_frequency, period_averaged
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
-from sph_fsi_core.solid_gradient_integration import (_Q, gradient_stress_force, gradient_strain_energy,
-                                                     hessian_pair_weights, velocity_hessian)
+from sph_fsi_core.solid_gradient_integration import _Q, gradient_stress_force, gradient_strain_energy, velocity_hessian
 from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows
 
 
@@ -30,42 +29,45 @@ def _jittered_bar(seed):
     order = np.zeros(n, dtype=np.int64)
     mls_fit_rows(pos, np.zeros(3), mass, rho, nl.start, nl.index, h, rows, order, np.zeros((2, n, MOMENT_COUNT)))
     assert (order == 2).all()
-    hweights = np.zeros((nl.pairs, 12))
-    hessian_pair_weights(pos, np.zeros(3), mass, rho, nl.start, nl.index, h, rows, hweights)
-    return pos, h, mass, rho, nl, rows, hweights
+    w, f = np.zeros(nl.pairs), np.zeros(nl.pairs)
+    pair_kernel_values(pos, pos, nl.start, nl.index, h, np.zeros(3), w, f)
+    return pos, h, mass, rho, nl, rows, w
+
+
+def _hessian(pos, h, mass, rho, nl, rows, w, vel):
+    n = len(pos)
+    hessian = np.zeros((n, 3, 6))
+    velocity_hessian(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, h, rows, w, hessian,
+                     np.zeros((2, n, 27)))
+    return hessian
 
 
 def test_fitted_hessian_is_exact_for_quadratic_velocity_fields_up_to_the_corners():
-    pos, h, mass, rho, nl, rows, hweights = _jittered_bar(seed=5)
+    pos, h, mass, rho, nl, rows, w = _jittered_bar(seed=5)
     rng = np.random.default_rng(2)
     a = rng.normal(size=(3, 3))
     b = rng.normal(size=(3, 3, 3)) / 0.01
     b = 0.5 * (b + b.transpose(0, 2, 1))      # v_i = a_ij x_j + b_ijk x_j x_k / 2: Hessian of v_i is b_i
     vel = np.ascontiguousarray(pos @ a.T + 0.5 * np.einsum("ijk,nj,nk->ni", b, pos, pos))
-    n = len(pos)
-    hessian = np.zeros((n, 3, 6))
-    velocity_hessian(vel, nl.start, nl.index, hweights, hessian, np.zeros((2, n, 18)))
+    hessian = _hessian(pos, h, mass, rho, nl, rows, w, vel)
     exact = np.array([[b[i, j, k] for j, k in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))] for i in range(3)])
     assert np.abs(hessian - exact[None]).max() < 1e-8 * np.abs(b).max()
 
 
 def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_power():
     """sum m a = 0, and sum_a F_a . v_a = -sum_a V_a m sum_k T_a[k] : d_k L_a for any T and v."""
-    pos, h, mass, rho, nl, rows, hweights = _jittered_bar(seed=9)
+    pos, h, mass, rho, nl, rows, w = _jittered_bar(seed=9)
     n = len(pos)
     rng = np.random.default_rng(4)
     vel = np.ascontiguousarray(rng.normal(scale=0.01, size=(n, 3)))
     t = rng.normal(scale=1e6, size=(n, 3, 6))
     cell_moment = 1e-6 / 12.0
     acc = np.zeros((n, 3))
-    refreshed = np.zeros_like(hweights)
     gradient_stress_force(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, t, cell_moment, nl.start,
-                          nl.index, h, rows, refreshed, np.zeros((n, 3, 6)), acc, np.zeros((2, n, 18)))
-    assert np.abs(refreshed - hweights).max() < 1e-12 * np.abs(hweights).max()
+                          nl.index, h, rows, w, np.zeros((n, 3, 9)), acc, np.zeros((2, n, 18)))
     force = mass[:, None] * acc
     assert np.abs(force.sum(axis=0)).max() < 1e-12 * np.abs(force).sum()
-    hessian = np.zeros((n, 3, 6))
-    velocity_hessian(vel, nl.start, nl.index, hweights, hessian, np.zeros((2, n, 18)))
+    hessian = _hessian(pos, h, mass, rho, nl, rows, w, vel)
     full = np.zeros((n, 3, 3, 3))   # T[k] as full symmetric tensors
     for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
         full[:, :, i, j] = full[:, :, j, i] = t[:, :, c]
