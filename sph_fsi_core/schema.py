@@ -142,7 +142,8 @@ SOLID = [
        "How the strain energy is summed over the particles: 'plain' with each particle's strain at its centre "
        "(SPH's nodal integration; a bent 4-layer beam is 6 % short in EI), 'gradient' plus the deviatoric strain's "
        "gradient across each particle's cell (exact for strain linear across a cell; needs "
-       "solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)", kind="str", choices=("plain", "gradient")),
+       "solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)", kind="str",
+       choices=("plain", "gradient")),
     _p("solid.clamp", "fixed", "",
        "How the clamp holds the body: 'fixed' clamp particles at rest carrying stress (the paper's; the body bends "
        "as if up to half a spacing longer), 'mirrored' clamp particles moving as the odd mirror image of the body "

@@ -17,8 +17,8 @@ stiff with its first mode trading energy away within a period (docs/validation/F
 
 The quadratic fit of solid_mls.py already determines the velocity's second derivatives: with rows 3..8 of M_a^-1,
     d_j d_k v_a = sum_b (v_b - v_a) Gh_ab[jk],   Gh_ab = V_b W_ab (rows 3..8 of M_a^-1) p(u_ab) / h^2
-(six entries xx, yy, zz, xy, xz, yz; the passes apply the rows once per particle instead of storing Gh per pair). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is
-state:
+(six entries xx, yy, zz, xy, xz, yz; the passes apply the rows once per particle instead of storing Gh per
+pair). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is state:
     dT[k]/dt = 2 G dev(e_k) + Jaumann spin on k, i and j,   e_k = d_k of the strain rate,
 and its force is the one whose power is sum_a V_a m sum_k T_a[k] : d_k L_a (as F_ab of solid_mls.py):
     F_ab,i = Phi_ab,i - Phi_ba,i,   Phi_ab,i = V_a m sum_jk T_a[k]_ij Gh_ab[jk],   +F on a, -F on b,
