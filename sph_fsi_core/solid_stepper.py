@@ -9,14 +9,19 @@ One step of size dt, with a^n the acceleration at r^n (from the previous step):
     a^{n+1} from eq. (5), refreshing the pair cache at r^{n+1} in the same pass
     v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}                          (kick)
 
-Second order, three passes over the pairs per step. The artificial viscosity in a^{n+1}
-uses v^{n+1/2} (the velocity at n+1 is not known yet). With solid.clamp = fixed, clamp particles (movable False)
-keep v = 0 and r fixed but update rho and S (clamp material whose particles are held); with solid.clamp = mirrored
-(`clamp_mirror` not empty) those behind the body are ghosts of it: v_g = -v_m and displacement u_g = -u_m of their
-mirror image m across the clamp face, so velocity and displacement vanish on the face, and they carry no stress
-(the wall does no work); the forces the body's stress puts on a ghost are moved to its image with the opposite sign, the force whose
-power is the body's stress power with the ghosts' velocities substituted, so the scheme stays conservative. The loop returns early when the neighbour list may go stale within the next step, so
-the caller can rebuild it (a rebuild is never needed mid-step).
+Second order, three passes over the pairs per step (five with solid.nodal_integration = gradient, whose stress
+gradient advances with S: solid_gradient_integration.py). The artificial viscosity in a^{n+1} uses v^{n+1/2} (the
+velocity at n+1 is not known yet).
+
+Clamp particles (movable False) keep r fixed. With solid.clamp = fixed they keep v = 0 but update rho and S (clamp
+material whose particles are held). With solid.clamp = mirrored (`clamp_mirror` not empty) those behind the body are
+its ghosts: v_g = -v_m and displacement u_g = -u_m of their mirror image m across the clamp face, so velocity and
+displacement vanish on the face; they carry no stress (the wall does no work), and the forces the body's stress puts
+on a ghost move to its image with the opposite sign: the force whose power is the body's stress power with the
+ghosts' velocities substituted, so the scheme stays conservative.
+
+The loop returns early when the neighbour list may go stale within the next step, so the caller can rebuild it (a
+rebuild is never needed mid-step).
 """
 import math
 from typing import NamedTuple
@@ -102,7 +107,6 @@ class SolidWork:
             self.f = np.zeros(npairs)
 
 
-
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def mirror_clamp_velocities(vel, clamp_mirror):
     """Ghost clamp (solid.clamp = mirrored): v_g = -v_m, the odd image of the body's velocity across the face."""
@@ -137,15 +141,15 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.gradient_order == 2:
-        momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
-                          prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
+        momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
+                          prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
                           mls_weights, buf)
         if prm.cell_moment > 0.0:
             gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, prm.cell_moment, start, index,
                                   prm.h, mls_rows, w, force_rows, acc, buf)
     else:
-        momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h, prm.c0,
-                      prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
+        momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
+                      prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
                       prm.gradient_order == 1, kinv)
     fold_clamp_forces(acc, mass, body, clamp_mirror)
     has_ext = ext_acc.shape[0] == acc.shape[0]

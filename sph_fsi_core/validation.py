@@ -72,6 +72,9 @@ def _cantilever_rungs():
     rungs.append(Rung("cantilever_gradient_integration", "L40_dp1.0_10periods", "cantilever",
                       {"solid.nodal_integration": "gradient"}, periods=10.0,
                       note="the paper's beam, 10 periods, solid.nodal_integration = gradient"))
+    rungs.append(Rung("cantilever_gradient_integration", "L60", "cantilever",
+                      {"geometry.length": 0.06, "solid.nodal_integration": "gradient"}, periods=2.25,
+                      note="L = 60 mm, dp = 1 mm, solid.nodal_integration = gradient"))
     rungs.append(sweep[120])
     return rungs
 
