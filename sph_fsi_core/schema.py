@@ -144,6 +144,11 @@ SOLID = [
        "gradient across each particle's cell (exact for strain linear across a cell; needs "
        "solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)", kind="str",
        choices=("plain", "gradient")),
+    _p("solid.fit_refresh_turn", 0.0, "1",
+       "Quadratic fit: remake its moment rows once a particle's neighbourhood has turned or strained by this much "
+       "(the integral of |L| dt) since they were made, besides at every neighbour-list build (0: only there, or "
+       "1e-4 with solid.nodal_integration = gradient); a stale fit leaks rotation into the fitted curvature and "
+       "locks energy in self-balanced stress (docs/validation/FINDINGS.md)", low=0.0, high=1.0, rebuild=False),
     _p("solid.clamp", "fixed", "",
        "How the clamp holds the body: 'fixed' clamp particles at rest carrying stress (the paper's; the body bends "
        "as if up to half a spacing longer), 'mirrored' clamp particles moving as the odd mirror image of the body "

@@ -62,6 +62,7 @@ class Simulation:
         self.warnings = []
         self._artificial_stress_warning = None   # the one warning that follows live changes
         self.neighbour_builds = 0
+        self.fit_refreshes = 0
         if self.solid is not None:
             self._initial_positions = self.solid.pos.copy()
             self.clamp_mirror = self._clamp_mirror(built, v["solid.clamp"])
@@ -131,7 +132,8 @@ class Simulation:
             beta=v["solid.artificial_viscosity_beta"], art_eps=v["solid.artificial_stress_epsilon"],
             art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
             skin=v["numerics.neighbour_skin"] * self.h,
-            velocity_gradient=v["solid.velocity_gradient"], nodal_integration=v["solid.nodal_integration"])
+            velocity_gradient=v["solid.velocity_gradient"], nodal_integration=v["solid.nodal_integration"],
+            fit_refresh_turn=v["solid.fit_refresh_turn"])
         if v["solid.nodal_integration"] == "gradient" and v["solid.velocity_gradient"] != "quadratic":
             raise SceneError(f"solid.nodal_integration = gradient needs the quadratic fit's second derivatives; "
                              f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
@@ -177,6 +179,14 @@ class Simulation:
         nb.build(s.pos, s.pos)
         wk.resize_pairs(nb.pairs)
         pair_kernel_values(s.pos, s.pos, nb.start, nb.index, self.h, self.period, wk.w, wk.f)
+        self._refit_solid()
+        self.neighbour_builds += 1
+
+    def _refit_solid(self):
+        """The quadratic fit's moment rows (and the pair weights made from them) at the current positions."""
+        s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
+        wk.turn[:] = 0.0
+        wk.fit_refresh[0] = 0
         if self.solid_params.gradient_order == 2:
             if wk.moment_buf.shape[:2] != (wk.buf.shape[0], s.count):
                 wk.moment_buf = np.zeros((wk.buf.shape[0], s.count, MOMENT_COUNT))
@@ -186,7 +196,7 @@ class Simulation:
                 wk.mls_weights = np.zeros((nb.pairs, 6))
             mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
                              wk.mls_weights)
-        self.neighbour_builds += 1
+            self.fit_refreshes += 1
 
     def _warn_if_quadratic_fit_falls_back(self):
         """The quadratic fit needs three particle layers in every direction; thinner bodies get the linear fit."""
@@ -326,9 +336,11 @@ class Simulation:
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
-                               wk.force_rows, wk.hessian_moments)
+                               wk.force_rows, wk.hessian_moments, wk.turn, wk.fit_refresh)
             done += k
-            if done < n:
+            if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list
+                self._refit_solid()
+            elif done < n:
                 self._rebuild_solid_neighbours()
                 force = True
 

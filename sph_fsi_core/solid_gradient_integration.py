@@ -19,7 +19,7 @@ The quadratic fit of solid_mls.py already determines the velocity's second deriv
     d_j d_k v_a = sum_b (v_b - v_a) Gh_ab[jk],   Gh_ab = V_b W_ab (rows 3..8 of M_a^-1) p(u_ab) / h^2
 (six entries xx, yy, zz, xy, xz, yz; the passes apply the rows once per particle instead of storing Gh per
 pair). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is state:
-    dT[k]/dt = 2 G dev(e_k) + Jaumann spin on k, i and j,   e_k = d_k of the strain rate,
+    dT[k]/dt = 2 G dev(e_k) + spin and convection terms (stress_gradient_rate),   e_k = d_k of the strain rate,
 and its force is the one whose power is sum_a V_a m sum_k T_a[k] : d_k L_a (as F_ab of solid_mls.py):
     F_ab,i = Phi_ab,i - Phi_ba,i,   Phi_ab,i = V_a m sum_jk T_a[k]_ij Gh_ab[jk],   +F on a, -F on b,
 so momentum is conserved to round-off and the energy stored is the work done. Particles whose fit fell back to
@@ -167,15 +167,19 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def stress_gradient_rate(hessian, grad_v, stress_gradient, shear_modulus, rate):
-    """dT[k]/dt = 2G dev(e_k) + (W T)[k] for T[k] = d_k S (deviatoric), e_k = d_k of the strain rate.
+def stress_gradient_rate(hessian, grad_v, stress, stress_gradient, shear_modulus, rate):
+    """dT[k]/dt for T[k] = d_k S following the particle: the gradient of the Jaumann-Hooke rate of S, less the
+    convection of a spatial gradient by the flow (d/dt d_k = d_k d/dt - L_lk d_l):
 
-    The spin W = (L - L^T) / 2 turns all three indices of T: Omega_kl T[l]_ij + Omega_il T[k]_lj + Omega_jl T[k]_il,
-    so a rigidly rotating bent body keeps its stress gradient (the Jaumann rate of solid_gray2001.py, one index more).
+        dT[k]/dt = 2G dev(e_k) + (d_k W) S - S (d_k W) + W T[k] - T[k] W - L_lk T[l],
+
+    e_k and d_k W the symmetric and antisymmetric parts of d_k L (the fit's Hessian), W the spin. A rigidly rotating
+    bent body keeps its stress gradient, turned with it.
     """
     g2 = 2.0 * shear_modulus
     for a in prange(hessian.shape[0]):
         sg = stress_gradient[a]
+        sd = stress[a]
         for k in range(3):
             tr = hessian[a, 0, _Q[0][k]] + hessian[a, 1, _Q[1][k]] + hessian[a, 2, _Q[2][k]]
             for i in range(3):
@@ -184,9 +188,13 @@ def stress_gradient_rate(hessian, grad_v, stress_gradient, shear_modulus, rate):
                     if i == j:
                         value -= g2 / 3.0 * tr
                     for m in range(3):
-                        value += (0.5 * (grad_v[a, k, m] - grad_v[a, m, k]) * sg[m, _C[i][j]]
+                        # d_k W_im = (d_k L_im - d_k L_mi) / 2, with d_k L_im = d_m d_k v_i
+                        dw_im = 0.5 * (hessian[a, i, _Q[m][k]] - hessian[a, m, _Q[i][k]])
+                        dw_jm = 0.5 * (hessian[a, j, _Q[m][k]] - hessian[a, m, _Q[j][k]])
+                        value += (dw_im * sd[_C[m][j]] + dw_jm * sd[_C[i][m]]
                                   + 0.5 * (grad_v[a, i, m] - grad_v[a, m, i]) * sg[k, _C[m][j]]
-                                  + 0.5 * (grad_v[a, j, m] - grad_v[a, m, j]) * sg[k, _C[i][m]])
+                                  + 0.5 * (grad_v[a, j, m] - grad_v[a, m, j]) * sg[k, _C[i][m]]
+                                  - grad_v[a, m, k] * sg[m, _C[i][j]])
                     rate[a, k, _C[i][j]] = value
 
 

@@ -37,6 +37,11 @@ from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate
 from .solid_gradient_integration import gradient_stress_force, stress_gradient_rate, velocity_hessian
 from .solid_mls import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
+# solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
+# (docs/validation/FINDINGS.md: with rows kept from one list build to the next, 46 % of the paper's beam's energy
+# ended up locked in self-balanced stress within 7 periods)
+GRADIENT_FIT_REFRESH_TURN = 1e-4
+
 # solid.velocity_gradient -> SolidParams.gradient_order
 GRADIENT_ORDERS = {"sph": 0, "linear": 1, "quadratic": 2}
 
@@ -59,15 +64,18 @@ class SolidParams(NamedTuple):
     half_skin: float
     gradient_order: int    # 0: Gray's SPH gradient (the paper); 1: kernel-corrected L K^-1; 2: quadratic fit
     cell_moment: float     # m = dp^2 / 12 of the strain-gradient nodal integration (0: off)
+    fit_refresh_turn: float   # refit the quadratic fit once some particle's integral of |L| dt passes this (0: never)
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
-                skin, velocity_gradient="sph", nodal_integration="plain"):
+                skin, velocity_gradient="sph", nodal_integration="plain", fit_refresh_turn=0.0):
     return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
                        beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
                        half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient],
-                       cell_moment=spacing ** 2 / 12.0 if nodal_integration == "gradient" else 0.0)
+                       cell_moment=spacing ** 2 / 12.0 if nodal_integration == "gradient" else 0.0,
+                       fit_refresh_turn=0.0 if velocity_gradient != "quadratic" else
+                       fit_refresh_turn or (GRADIENT_FIT_REFRESH_TURN if nodal_integration == "gradient" else 0.0))
 
 
 class SolidWork:
@@ -96,6 +104,8 @@ class SolidWork:
         self.force_rows = np.zeros((m, 3, N_BASIS))
         self.hessian_moments = np.zeros((self.buf.shape[0], m, 3 * N_BASIS))
         self.mls_order = np.zeros(n, dtype=np.int64)
+        self.turn = np.zeros(n)                      # integral of |L| dt since the fit rows were made
+        self.fit_refresh = np.zeros(1, dtype=np.int64)   # set by the stepper: the rows are due
         self.moment_buf = np.zeros((0, 0, 0))       # allocated on first use (chunks, N, 45)
         self.mls_weights = np.zeros((0, 6))          # pair cache (G_ab, G_ba), allocated on first use
         self.w = np.zeros(0)
@@ -178,11 +188,14 @@ def _max_norm(v):
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
                    w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
-                   force_rows, hessian_moments):
+                   force_rows, hessian_moments, turn, fit_refresh):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
     faster than half the skin per step would otherwise stall the run; the watchdog's speed limit catches those).
+    Also returns early, with fit_refresh[0] = 1, once some particle's neighbourhood has turned or strained by
+    prm.fit_refresh_turn (the integral of |L| dt) since the quadratic fit's rows were made: the rows belong to the
+    positions they were made at, and a stale fit leaks the linear part of the motion into the fitted curvature.
     """
     n = pos.shape[0]
     ghost_clamp = clamp_mirror.shape[0] > 0
@@ -210,7 +223,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         if prm.cell_moment > 0.0:
             velocity_hessian(pos, period, mass, rho, vel, start, index, prm.h, mls_rows, w, hessian, hessian_moments)
-            stress_gradient_rate(hessian, grad_v, stress_gradient, prm.shear_modulus, dstress_gradient)
+            stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:
                 rho[a] += dt * drho[a]
@@ -235,4 +248,14 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         mirror_clamp_velocities(vel, clamp_mirror)
+        if prm.fit_refresh_turn > 0.0:
+            worst = 0.0
+            for a in range(n):
+                g = grad_v[a]
+                turn[a] += dt * math.sqrt(g[0, 0] ** 2 + g[0, 1] ** 2 + g[0, 2] ** 2 + g[1, 0] ** 2 + g[1, 1] ** 2
+                                          + g[1, 2] ** 2 + g[2, 0] ** 2 + g[2, 1] ** 2 + g[2, 2] ** 2)
+                worst = max(worst, turn[a])
+            if worst > prm.fit_refresh_turn:
+                fit_refresh[0] = 1
+                return step + 1
     return n_steps
