@@ -62,7 +62,6 @@ class Simulation:
         self.warnings = []
         self._artificial_stress_warning = None   # the one warning that follows live changes
         self.neighbour_builds = 0
-        self.fit_refreshes = 0
         if self.solid is not None:
             self._initial_positions = self.solid.pos.copy()
             self.clamp_mirror = self._clamp_mirror(built, v["solid.clamp"])
@@ -196,7 +195,6 @@ class Simulation:
                 wk.mls_weights = np.zeros((nb.pairs, 6))
             mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
                              wk.mls_weights)
-            self.fit_refreshes += 1
 
     def _warn_if_quadratic_fit_falls_back(self):
         """The quadratic fit needs three particle layers in every direction; thinner bodies get the linear fit."""
@@ -338,8 +336,9 @@ class Simulation:
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
                                wk.force_rows, wk.hessian_moments, wk.turn, wk.fit_refresh)
             done += k
-            if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list
+            if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid()
+                force = False
             elif done < n:
                 self._rebuild_solid_neighbours()
                 force = True

@@ -20,7 +20,7 @@ class SolidState:
     surface_normal: np.ndarray = None   # (N, 3) outward unit normal, zero inside (set by coupled scenes)
     acc: np.ndarray = field(default=None)        # (N, 3) m/s^2, acceleration at the current positions
     pressure: np.ndarray = field(default=None)   # (N,) Pa
-    # (N, 3, 6) Pa/m, d_k sigma of solid.nodal_integration = gradient (solid_gradient_integration.py); else (0, 3, 6)
+    # (N, 3, 6) Pa/m, d_k S (deviatoric) of solid.nodal_integration = gradient (solid_gradient_integration.py); else (0, 3, 6)
     stress_gradient: np.ndarray = field(default=None)
 
     def __post_init__(self):

@@ -30,7 +30,6 @@ def clamp_mirror_across(pos, movable, axis, face, spacing):
     image = pos.copy()
     image[:, axis] = 2.0 * face - pos[:, axis]
     grid = 0.01 * spacing
-
     lo = np.minimum(pos.min(axis=0), image.min(axis=0))
     site = np.round((pos - lo) / grid).astype(np.int64)
     site_image = np.round((image - lo) / grid).astype(np.int64)
