@@ -141,8 +141,8 @@ SOLID = [
     _p("solid.nodal_integration", "plain", "",
        "How the strain energy is summed over the particles: 'plain' with each particle's strain at its centre "
        "(SPH's nodal integration; a bent 4-layer beam is 6 % short in EI), 'gradient' plus the deviatoric strain's "
-       "gradient across each particle's cell (exact for strain linear across a cell; needs "
-       "solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)", kind="str",
+       "gradient across each particle's cell (exact for strain linear across a cell; the cantilever scene's "
+       "default; needs solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)", kind="str",
        choices=("plain", "gradient")),
     _p("solid.fit_refresh_turn", 0.0, "1",
        "Quadratic fit: remake its moment rows once a particle's neighbourhood has turned or strained by this much "

@@ -32,10 +32,14 @@ from .neighbours import minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
-# Hessian entry q of the symmetric pair (j, k): xx, yy, zz, xy, xz, yz
-_Q = ((0, 3, 4), (3, 1, 5), (4, 5, 2))
-# stress component (i, j) of the 6-vector
-_C = ((XX, XY, XZ), (XY, YY, YZ), (XZ, YZ, ZZ))
+_CHUNKS = 64
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _sym(i, j):
+    """Index of component (i, j) of a symmetric tensor stored as XX, YY, ZZ, XY, XZ, YZ (tensors.py); the Hessian
+    entries d_j d_k are stored in the same order."""
+    return i if i == j else i + j + 2
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -47,62 +51,31 @@ def _basis_dot(v, ux, uy, uz):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, cell_moment, start, index, h, rows, w,
-                          force_rows, acc, buf):
-    """Adds the force of the stress gradient (module doc) to `acc`; `w` holds W_ab at the current positions.
-
-    With Gh_ab = s_ab R_a^(3..8) p(u), s_ab = V_b W_ab / h^2, the pair term is Phi_ab,i = s_ab A_a[i] . p(u) with
-    A_a[i] = sum_q (V_a m T_a contracted to entry q of the Hessian) R_a^(3+q), nine numbers per i made once per
-    particle (`force_rows`, N x 3 x 9), so a pair costs two 27-term sums and no stored weights.
-    """
-    n = pos.shape[0]
-    inv_h = 1.0 / h
-    for a in prange(n):
+def gradient_force_rows(mass, rho, stress_gradient, cell_moment, rows, force_rows):
+    """force_rows[a, i] = A_a[i] = sum_jk V_a m T_a[k]_ij R_a^(3 + q(j, k)), nine numbers per i (N x 3 x 9), so
+    that the pair term of the stress gradient's force is Phi_ab,i = s_ab A_a[i] . p(u) (gradient_pair_force)."""
+    for a in prange(mass.shape[0]):
         scale = mass[a] / rho[a] * cell_moment
         for i in range(3):
             for r in range(9):
                 force_rows[a, i, r] = 0.0
             for j in range(3):
                 for k in range(3):
-                    t = scale * stress_gradient[a, k, _C[i][j]]
-                    q = 3 + _Q[j][k]
+                    t = scale * stress_gradient[a, k, _sym(i, j)]
+                    q = 3 + _sym(j, k)
                     for r in range(9):
                         force_rows[a, i, r] += t * rows[a, q, r]
-    chunks = buf.shape[0]
-    for c in prange(chunks):
-        out = buf[c]
-        out[:, 0:3] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
-            va = mass[a] / rho[a]
-            fax = fay = faz = 0.0
-            for s in range(start[a], start[a + 1]):
-                b = index[s]
-                if w[s] == 0.0 or not (movable[a] or movable[b]):
-                    continue
-                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-                sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
-                sba = va * w[s] * inv_h * inv_h
-                fx = sab * _basis_dot(force_rows[a, 0], ux, uy, uz) - sba * _basis_dot(force_rows[b, 0], -ux, -uy, -uz)
-                fy = sab * _basis_dot(force_rows[a, 1], ux, uy, uz) - sba * _basis_dot(force_rows[b, 1], -ux, -uy, -uz)
-                fz = sab * _basis_dot(force_rows[a, 2], ux, uy, uz) - sba * _basis_dot(force_rows[b, 2], -ux, -uy, -uz)
-                fax += fx
-                fay += fy
-                faz += fz
-                out[b, 0] -= fx
-                out[b, 1] -= fy
-                out[b, 2] -= fz
-            out[a, 0] += fax
-            out[a, 1] += fay
-            out[a, 2] += faz
-    for a in prange(n):
-        inv_m = 1.0 / mass[a]
-        for k in range(3):
-            total = 0.0
-            for c in range(chunks):
-                total += buf[c, a, k]
-            acc[a, k] += total * inv_m
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def gradient_pair_force(force_rows, a, b, ux, uy, uz, s_ab, s_ba):
+    """The stress gradient's force F_ab = Phi_ab - Phi_ba of the pair (+F on a, -F on b; module doc), with
+    u = (x_b - x_a) / h and s_ab = V_b W_ab / h^2: two 27-term sums, no stored weights. Called from the solid's
+    momentum pass (solid_mls.momentum_rate_mls), which has u and W_ab at hand."""
+    fx = s_ab * _basis_dot(force_rows[a, 0], ux, uy, uz) - s_ba * _basis_dot(force_rows[b, 0], -ux, -uy, -uz)
+    fy = s_ab * _basis_dot(force_rows[a, 1], ux, uy, uz) - s_ba * _basis_dot(force_rows[b, 1], -ux, -uy, -uz)
+    fz = s_ab * _basis_dot(force_rows[a, 2], ux, uy, uz) - s_ba * _basis_dot(force_rows[b, 2], -ux, -uy, -uz)
+    return fx, fy, fz
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -173,29 +146,49 @@ def stress_gradient_rate(hessian, grad_v, stress, stress_gradient, shear_modulus
 
         dT[k]/dt = 2G dev(e_k) + (d_k W) S - S (d_k W) + W T[k] - T[k] W - L_lk T[l],
 
-    e_k and d_k W the symmetric and antisymmetric parts of d_k L (the fit's Hessian), W the spin. A rigidly rotating
-    bent body keeps its stress gradient, turned with it.
+    e_k and d_k W the symmetric and antisymmetric parts of d_k L (the fit's Hessian, d_k L_im = d_m d_k v_i), W
+    the spin. A rigidly rotating bent body keeps its stress gradient, turned with it.
     """
     g2 = 2.0 * shear_modulus
-    for a in prange(hessian.shape[0]):
-        sg = stress_gradient[a]
-        sd = stress[a]
-        for k in range(3):
-            tr = hessian[a, 0, _Q[0][k]] + hessian[a, 1, _Q[1][k]] + hessian[a, 2, _Q[2][k]]
+    n = hessian.shape[0]
+    chunks = min(n, _CHUNKS)    # each chunk keeps its 3 x 3 scratch tensors
+    for c in prange(chunks):
+        dl = np.empty((3, 3))      # d_k L for one k
+        sd = np.empty((3, 3))      # S
+        sp = np.empty((3, 3))      # W
+        tk = np.empty((3, 3, 3))   # T[k]
+        m = np.empty((3, 3))       # the rate of T[k], full
+        for a in range(c * n // chunks, (c + 1) * n // chunks):
             for i in range(3):
-                for j in range(i, 3):
-                    value = 0.5 * g2 * (hessian[a, i, _Q[j][k]] + hessian[a, j, _Q[i][k]])
-                    if i == j:
-                        value -= g2 / 3.0 * tr
-                    for m in range(3):
-                        # d_k W_im = (d_k L_im - d_k L_mi) / 2, with d_k L_im = d_m d_k v_i
-                        dw_im = 0.5 * (hessian[a, i, _Q[m][k]] - hessian[a, m, _Q[i][k]])
-                        dw_jm = 0.5 * (hessian[a, j, _Q[m][k]] - hessian[a, m, _Q[j][k]])
-                        value += (dw_im * sd[_C[m][j]] + dw_jm * sd[_C[i][m]]
-                                  + 0.5 * (grad_v[a, i, m] - grad_v[a, m, i]) * sg[k, _C[m][j]]
-                                  + 0.5 * (grad_v[a, j, m] - grad_v[a, m, j]) * sg[k, _C[i][m]]
-                                  - grad_v[a, m, k] * sg[m, _C[i][j]])
-                    rate[a, k, _C[i][j]] = value
+                for j in range(3):
+                    sd[i, j] = stress[a, _sym(i, j)]
+                    sp[i, j] = 0.5 * (grad_v[a, i, j] - grad_v[a, j, i])
+                    for k in range(3):
+                        tk[k, i, j] = stress_gradient[a, k, _sym(i, j)]
+            for k in range(3):
+                for i in range(3):
+                    for j in range(3):
+                        dl[i, j] = hessian[a, i, _sym(j, k)]
+                trace = dl[0, 0] + dl[1, 1] + dl[2, 2]
+                for i in range(3):
+                    for j in range(i, 3):
+                        value = 0.5 * g2 * (dl[i, j] + dl[j, i])
+                        for q in range(3):
+                            dw_iq = 0.5 * (dl[i, q] - dl[q, i])
+                            dw_jq = 0.5 * (dl[j, q] - dl[q, j])
+                            value += (dw_iq * sd[q, j] + dw_jq * sd[i, q]
+                                      + sp[i, q] * tk[k, q, j] + sp[j, q] * tk[k, i, q]
+                                      - grad_v[a, q, k] * tk[q, i, j])
+                        m[i, j] = value
+                m[0, 0] -= g2 / 3.0 * trace
+                m[1, 1] -= g2 / 3.0 * trace
+                m[2, 2] -= g2 / 3.0 * trace
+                rate[a, k, XX] = m[0, 0]
+                rate[a, k, YY] = m[1, 1]
+                rate[a, k, ZZ] = m[2, 2]
+                rate[a, k, XY] = m[0, 1]
+                rate[a, k, XZ] = m[0, 2]
+                rate[a, k, YZ] = m[1, 2]
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)

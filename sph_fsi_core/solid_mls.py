@@ -30,13 +30,19 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import minimum_image
+from .solid_gradient_integration import gradient_pair_force
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 N_BASIS = 9
 MOMENT_COUNT = N_BASIS * (N_BASIS + 1) // 2   # upper triangle of M, row by row
-# a quadratic fit whose Cholesky pivot falls below this fraction of its diagonal entry is not determined
-_PIVOT_TOLERANCE = 1e-6
+# A quadratic fit whose Cholesky pivot falls below this fraction of its diagonal entry is not determined. On a
+# lattice every particle with three or more layers around it has pivots of at least 0.07 of the diagonal (4-layer
+# and 3-layer beams, the 3-layer Antoci gate), and a two-layer direction 1e-16 (u_z and u_z^2 / 2 collinear over
+# the neighbours). Bending lifts the latter with the square of the distortion: 1e-6 let a bent two-layer beam's
+# particles flip to a "quadratic" fit with rows of 1e3 and more once the fit was remade as the beam moved, and the
+# run blew up within 0.3 ms (a 2 mm cantilever); 1e-2 keeps them linear up to ~10 % distortion of the cell.
+_PIVOT_TOLERANCE = 1e-2
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -285,7 +291,7 @@ def velocity_divergence_rate(rho, grad_v, drho):
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf):
+                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf, force_rows):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
@@ -295,12 +301,16 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
     support get zeros in the caches and no arithmetic; so do pairs of two clamp particles (`movable` False), whose
     forces act on no moving particle (with the mirrored clamp they would move the ghosts' images: the ghosts'
     relative motion is not the material's). Forces are summed per pair and divided by the mass once per particle.
+    With the strain-gradient nodal integration (`force_rows` (N, 3, 9) from gradient_force_rows; empty when it is
+    off) the pair also carries the stress gradient's force (solid_gradient_integration.gradient_pair_force), here
+    where u and W_ab are at hand rather than in a pass of its own.
     """
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     support2 = 4.0 * h * h
     sigma_k = 1.0 / (math.pi * h * h * h)
     n = vel.shape[0]
+    gradient_integration = force_rows.shape[0] == n
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
@@ -353,6 +363,12 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
                 fx += mm * (txx * gx + txy * gy + txz * gz)
                 fy += mm * (txy * gx + tyy * gy + tyz * gz)
                 fz += mm * (txz * gx + tyz * gy + tzz * gz)
+                if gradient_integration:
+                    hx, hy, hz = gradient_pair_force(force_rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h * inv_h,
+                                                     va * wab * inv_h * inv_h)
+                    fx += hx
+                    fy += hy
+                    fz += hz
                 # forces here, accelerations once per particle below (one division instead of six per pair)
                 fax += fx
                 fay += fy

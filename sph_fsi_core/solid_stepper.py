@@ -9,7 +9,7 @@ One step of size dt, with a^n the acceleration at r^n (from the previous step):
     a^{n+1} from eq. (5), refreshing the pair cache at r^{n+1} in the same pass
     v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}                          (kick)
 
-Second order, three passes over the pairs per step (five with solid.nodal_integration = gradient, whose stress
+Second order, three passes over the pairs per step (four with solid.nodal_integration = gradient, whose stress
 gradient advances with S: solid_gradient_integration.py). The artificial viscosity in a^{n+1} uses v^{n+1/2} (the
 velocity at n+1 is not known yet).
 
@@ -34,7 +34,7 @@ from .kernels import cubic_spline_w
 from .neighbours import max_displacement
 from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
                              xsph_velocity_and_gradient)
-from .solid_gradient_integration import gradient_stress_force, stress_gradient_rate, velocity_hessian
+from .solid_gradient_integration import gradient_force_rows, stress_gradient_rate, velocity_hessian
 from .solid_mls import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
 # solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
@@ -151,12 +151,11 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.gradient_order == 2:
+        if prm.cell_moment > 0.0:
+            gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
         momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
                           prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
-                          mls_weights, buf)
-        if prm.cell_moment > 0.0:
-            gradient_stress_force(pos, period, mass, movable, rho, stress_gradient, prm.cell_moment, start, index,
-                                  prm.h, mls_rows, w, force_rows, acc, buf)
+                          mls_weights, buf, force_rows)
     else:
         momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
                       prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,

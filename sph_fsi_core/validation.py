@@ -43,39 +43,41 @@ def _cantilever_end_time(overrides, periods):
 
 def _cantilever_rungs():
     rungs = []
-    # Resolution ladder H/dp = 4, 6, 8 (2.25 periods of the reference each: the default scheme runs up to 10 %
-    # below it, and the zero-crossing fit and the damping ratio need two full periods of the tip). The default
-    # quadratic-fit gradient converges at first order in dp (lattice quadrature of the second moment and the
-    # clamp's half-spacing offset, docs/validation/FINDINGS.md): -6 % at the paper's H/dp = 4, so CI's bound is 8 %.
+    # The scene's scheme: the quadratic fit with the strain-gradient nodal integration (config/cantilever.yaml).
+    # Resolution ladder H/dp = 4, 6, 8 (2.25 periods of the reference each: the zero-crossing fit and the damping
+    # ratio need two full periods of the tip). CI runs H/dp = 4 (the paper's spacing), bound 3 %.
     for ratio, quick in ((4, True), (6, False), (8, False)):
         dp = 0.004 / ratio
         rungs.append(Rung("cantilever_ladder", f"H_over_dp_{ratio}", "cantilever",
-                          {"numerics.spacing": dp}, periods=2.25, quick=quick, bound=0.08,
+                          {"numerics.spacing": dp}, periods=2.25, quick=quick, bound=0.03,
                           note=f"dp = {dp * 1e3:.3f} mm"))
     # Length sweep at dp = 1 mm, as the paper's Fig. 5 (2.25 periods, as the ladder; shorter records let the
-    # free end's higher modes bias the frequency). The cost grows as L^3 (particles x period), so L = 120 mm
-    # runs last.
-    sweep = {length_mm: Rung("cantilever_length", f"L{length_mm}", "cantilever",
-                             {"geometry.length": length_mm * 1e-3}, periods=2.25,
-                             note=f"L = {length_mm} mm, dp = 1 mm") for length_mm in (40, 60, 80, 100, 120)}
-    rungs += [sweep[length_mm] for length_mm in (40, 60, 80, 100)]
-    # The paper's own scheme (Gray's SPH gradient) on the same beams: close at L = 40 mm, too stiff beyond.
-    for length_mm in (40, 60, 80):
-        rungs.append(Rung("cantilever_paper_scheme", f"L{length_mm}", "cantilever",
-                          {"geometry.length": length_mm * 1e-3, "solid.velocity_gradient": "sph"}, periods=2.25,
-                          note=f"L = {length_mm} mm, dp = 1 mm, solid.velocity_gradient = sph"))
+    # free end's higher modes bias the frequency). The cost grows as L^3 (particles x period).
+    rungs += [Rung("cantilever_length", f"L{length_mm}", "cantilever", {"geometry.length": length_mm * 1e-3},
+                   periods=2.25, note=f"L = {length_mm} mm, dp = 1 mm") for length_mm in (40, 60, 80, 100, 120)]
     # The paper's beam at the paper's spacing, 10 periods: frequency, damping, energy, sideways mode.
     rungs.append(Rung("cantilever", "L40_dp1.0_10periods", "cantilever", {}, periods=10.0,
                       note="the paper's beam, 10 periods"))
-    # The same with the strain-gradient nodal integration (an option: the cell's second moment of the strain,
-    # docs/method.md), which the plain nodal sum of the default misses on a 4-layer beam.
-    rungs.append(Rung("cantilever_gradient_integration", "L40_dp1.0_10periods", "cantilever",
-                      {"solid.nodal_integration": "gradient"}, periods=10.0,
-                      note="the paper's beam, 10 periods, solid.nodal_integration = gradient"))
-    rungs.append(Rung("cantilever_gradient_integration", "L60", "cantilever",
-                      {"geometry.length": 0.06, "solid.nodal_integration": "gradient"}, periods=2.25,
-                      note="L = 60 mm, dp = 1 mm, solid.nodal_integration = gradient"))
-    rungs.append(sweep[120])
+    # The same beams with the plain nodal integration (each particle's strain at its centre, the scheme before
+    # the gradient integration; a 4-layer beam's EI 6 % short, docs/method.md).
+    plain = {"solid.nodal_integration": "plain"}
+    for ratio in (4, 6, 8):
+        dp = 0.004 / ratio
+        rungs.append(Rung("cantilever_plain_ladder", f"H_over_dp_{ratio}", "cantilever",
+                          {"numerics.spacing": dp, **plain}, periods=2.25,
+                          note=f"dp = {dp * 1e3:.3f} mm, solid.nodal_integration = plain"))
+    rungs += [Rung("cantilever_plain_length", f"L{length_mm}", "cantilever",
+                   {"geometry.length": length_mm * 1e-3, **plain}, periods=2.25,
+                   note=f"L = {length_mm} mm, dp = 1 mm, solid.nodal_integration = plain")
+              for length_mm in (40, 60, 80, 100, 120)]
+    rungs.append(Rung("cantilever_plain", "L40_dp1.0_10periods", "cantilever", plain, periods=10.0,
+                      note="the paper's beam, 10 periods, solid.nodal_integration = plain"))
+    # The paper's own scheme (Gray's SPH gradient, plain sum) on the same beams: close at L = 40 mm, too stiff
+    # beyond.
+    for length_mm in (40, 60, 80):
+        rungs.append(Rung("cantilever_paper_scheme", f"L{length_mm}", "cantilever",
+                          {"geometry.length": length_mm * 1e-3, "solid.velocity_gradient": "sph", **plain},
+                          periods=2.25, note=f"L = {length_mm} mm, dp = 1 mm, solid.velocity_gradient = sph"))
     return rungs
 
 
@@ -125,6 +127,13 @@ def _gate_rungs():
                       {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
                        "solid.velocity_gradient": "quadratic", "solid.artificial_stress_epsilon": 0.0}, end_time=0.4,
                       note="dp = 1.67 mm, coupling pressure, quadratic fit, no artificial stress"))
+    # Three layers through the gate sum z^2 = 2 dp^2 where the section has H^3 / 12 = 2.25 dp^2: the plain nodal sum
+    # leaves the gate 11 % soft in bending; the strain-gradient nodal integration puts it back (docs/method.md).
+    rungs.append(Rung("antoci_gate", "pressure_gradient_eps0_dp1.67mm", "antoci_gate",
+                      {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
+                       "solid.velocity_gradient": "quadratic", "solid.artificial_stress_epsilon": 0.0,
+                       "solid.nodal_integration": "gradient"}, end_time=0.4,
+                      note="dp = 1.67 mm, coupling pressure, quadratic fit, strain-gradient nodal integration"))
     for dp, label, extra in ((0.002, "dp2mm", {"geometry.gate_clamp_height": 0.004}), (0.001, "dp1mm", {})):
         for model in ("seed", "pressure"):
             rungs.append(Rung("elastic_gate", f"{model}_{label}", "elastic_gate",
@@ -136,7 +145,16 @@ def _gate_rungs():
                       {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.velocity_gradient": "quadratic",
                        "solid.artificial_stress_epsilon": 0.0}, end_time=0.14, snapshot_interval=0.02,
                       note="dp = 1 mm, coupling pressure, quadratic-fit solid without artificial stress"))
+    rungs.append(Rung("elastic_gate", "pressure_gradient_dp1mm", "elastic_gate",
+                      {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.velocity_gradient": "quadratic",
+                       "solid.artificial_stress_epsilon": 0.0, "solid.nodal_integration": "gradient"}, end_time=0.14,
+                      snapshot_interval=0.02,
+                      note="dp = 1 mm, coupling pressure, quadratic-fit solid, strain-gradient nodal integration"))
     return rungs
+
+
+CANTILEVER_CASES = ("cantilever", "cantilever_ladder", "cantilever_length", "cantilever_plain",
+                    "cantilever_plain_ladder", "cantilever_plain_length", "cantilever_paper_scheme")
 
 
 def all_rungs():

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from .references import read_reference_csv
+from .validation import CANTILEVER_CASES
 
 
 def _fmt(x, spec=".3g"):
@@ -52,8 +53,7 @@ def _cantilever_extra(rungs, summaries):
     lines = []
     for r in rungs:
         s = summaries.get(r.key)
-        if s is None or r.case not in ("cantilever", "cantilever_ladder", "cantilever_length",
-                                       "cantilever_paper_scheme", "cantilever_gradient_integration"):
+        if s is None or r.case not in CANTILEVER_CASES:
             continue
         if s.get("frequency_hz") is None:
             continue
@@ -332,13 +332,15 @@ def _plots(out_dir, rungs, summaries):
         ax.plot(lengths, [row["fe3d_1mm_Hz"] for row in table], "k-", label="3D elasticity (FE, 1 mm)")
         ax.errorbar([length * 1e3 for length, _ in sweep], [s["frequency_hz"] for _, s in sweep],
                     yerr=[s["frequency_uncertainty_hz"] for _, s in sweep], fmt="o", color="C3",
-                    label="sph_fsi, dp = 1 mm (quadratic-fit gradient, default)")
-        paper = [(summaries[r.key]["settings"]["geometry.length"], summaries[r.key]) for r in rungs
-                 if r.case == "cantilever_paper_scheme" and r.key in summaries
-                 and summaries[r.key].get("frequency_hz")]
-        if paper:
-            ax.plot([length * 1e3 for length, _ in paper], [s["frequency_hz"] for _, s in paper], "s",
-                    color="C0", mfc="none", label="sph_fsi, dp = 1 mm, Gray's SPH gradient (the paper's scheme)")
+                    label="sph_fsi, dp = 1 mm (quadratic fit, gradient nodal integration: default)")
+        for case, marker, color, label in (
+                ("cantilever_plain_length", "^", "C2", "sph_fsi, dp = 1 mm, quadratic fit, plain nodal sum"),
+                ("cantilever_paper_scheme", "s", "C0", "sph_fsi, dp = 1 mm, Gray's SPH gradient (the paper's scheme)")):
+            other = [(summaries[r.key]["settings"]["geometry.length"], summaries[r.key]) for r in rungs
+                     if r.case == case and r.key in summaries and summaries[r.key].get("frequency_hz")]
+            if other:
+                ax.plot([length * 1e3 for length, _ in other], [s["frequency_hz"] for _, s in other], marker,
+                        color=color, mfc="none", label=label)
         ax.set_xlabel("beam length L [mm]")
         ax.set_ylabel("first bending frequency [Hz]")
         ax.set_title("Cantilever frequency against length (cf. the paper's Fig. 5)")

@@ -23,8 +23,10 @@ PROVOKING = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_ma
 
 
 def _closest_approach(art_eps, end_time=0.03, gradient="sph"):
+    nodal = "plain" if gradient == "sph" else "gradient"    # the strain-gradient sum needs the quadratic fit
     spec = load_scene("cantilever", PROVOKING + [f"solid.artificial_stress_epsilon={art_eps}",
-                                                 f"solid.velocity_gradient={gradient}"])
+                                                 f"solid.velocity_gradient={gradient}",
+                                                 f"solid.nodal_integration={nodal}"])
     sim = Simulation(spec)
     dp = spec["numerics.spacing"]
     closest = np.inf
@@ -63,14 +65,18 @@ def test_artificial_stress_keeps_particles_apart(runs):
 
 # A 10 x 4 x 6 mm beam at 0.5 mm (H/dp = 8), the paper's material (nu = 0.49). Gray's artificial stress is a pair
 # force proportional to the tensile principal stress but not paired with the strain rate, so it can feed energy in;
-# with the quadratic fit and a bulk modulus 50x the shear modulus it drives a mode that grows within milliseconds
-# (the paper's beam at H/dp = 8 with eps = 0.15 diverged at 32 ms; docs/method.md). eps = 0.3 is Gray's value.
+# with the quadratic fit, the plain nodal sum and a bulk modulus 50x the shear modulus it drives a mode that grows
+# within milliseconds (the paper's beam at H/dp = 8 with eps = 0.15 diverged at 32 ms; docs/method.md). eps = 0.3
+# is Gray's value. The strain-gradient nodal integration (the cantilever scene's default) adds stiffness against
+# exactly the cell-scale strain variation that mode lives on: measured, the same beam stays stable for 20 ms with
+# its energy at most 2 % above the start.
 FINE_STUBBY = ["geometry.length=0.01", "numerics.spacing=0.0005", "solid.velocity_gradient=quadratic",
                "output.snapshot_interval=0", "output.timeseries_interval=2.5e-4"]
 
 
-def _fine_beam_energy(art_eps, end_time=0.004):
-    sim = Simulation(load_scene("cantilever", FINE_STUBBY + [f"solid.artificial_stress_epsilon={art_eps}"]))
+def _fine_beam_energy(art_eps, nodal_integration, end_time=0.004):
+    sim = Simulation(load_scene("cantilever", FINE_STUBBY + [f"solid.artificial_stress_epsilon={art_eps}",
+                                                             f"solid.nodal_integration={nodal_integration}"]))
     initial = sum(sim.energies().values())
     largest = 1.0
     try:
@@ -82,34 +88,21 @@ def _fine_beam_energy(art_eps, end_time=0.004):
     return "stable", sim.time, largest, sim
 
 
-def test_artificial_stress_destabilises_the_quadratic_fit_at_nu_049():
-    outcome, when, _, _ = _fine_beam_energy(0.3)
+def test_artificial_stress_destabilises_the_quadratic_fit_with_the_plain_sum_at_nu_049():
+    outcome, when, _, _ = _fine_beam_energy(0.3, "plain")
     assert outcome == "energy growth"
     assert when < 0.004
 
 
+def test_gradient_integration_holds_the_artificial_stress_mode_at_nu_049():
+    outcome, _, largest, _ = _fine_beam_energy(0.3, "gradient")
+    assert outcome == "stable"
+    assert largest < 1.05
+
+
 def test_quadratic_fit_without_artificial_stress_keeps_its_energy_at_nu_049():
-    outcome, when, largest, sim = _fine_beam_energy(0.0)
+    outcome, when, largest, sim = _fine_beam_energy(0.0, "gradient")
     assert outcome == "stable"
     # the artificial viscosity only removes energy; the mode above would have doubled it by now
     assert largest < 1.005
     assert not any("artificial_stress" in w for w in sim.warnings)
-
-
-def test_warnings_name_the_risky_artificial_stress_settings():
-    quadratic = Simulation(load_scene("cantilever", ["solid.artificial_stress_epsilon=0.15"]))
-    assert any("solid.artificial_stress_epsilon = 0.15 with the quadratic fit" in w for w in quadratic.warnings)
-    sph = Simulation(load_scene("cantilever", ["solid.velocity_gradient=sph", "solid.artificial_stress_epsilon=0"]))
-    assert any("tensile instability" in w for w in sph.warnings)
-    paper = Simulation(load_scene("cantilever", ["solid.velocity_gradient=sph",
-                                                 "solid.artificial_stress_epsilon=0.15"]))
-    assert not any("artificial" in w for w in paper.warnings)
-
-
-def test_live_change_of_the_artificial_stress_updates_its_warning():
-    sim = Simulation(load_scene("cantilever", ["geometry.length=0.012", "output.snapshot_interval=0"]))
-    assert not any("artificial" in w for w in sim.warnings)
-    sim.apply({"solid.artificial_stress_epsilon": 0.3})
-    assert sum("solid.artificial_stress_epsilon = 0.3 with the quadratic fit" in w for w in sim.warnings) == 1
-    sim.apply({"solid.artificial_stress_epsilon": 0.0})
-    assert not any("artificial" in w for w in sim.warnings)

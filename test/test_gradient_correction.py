@@ -160,7 +160,7 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     refreshed = np.zeros_like(weights)
     momentum_rate_mls(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sigma / rho[:, None] ** 2,
                       np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, refreshed,
-                      np.zeros((2, n, 18)))
+                      np.zeros((2, n, 18)), np.zeros((0, 3, 9)))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)

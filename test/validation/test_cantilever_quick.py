@@ -1,10 +1,11 @@
 """Coarse validation in CI: the paper's beam (L = 40 mm, dp = 1 mm) for 2.25 periods of the reference, through
 `sph-fsi validate --quick`, judged against the 3D linear-elasticity frequency of reference_data/cantilever_frequencies.csv.
 
-The default quadratic-fit gradient comes out 6 % low at this spacing and converges to the 3D value at first
-order in dp (docs/validation/FINDINGS.md: the 4-layer lattice's second moment is 6 % short of H^3/12 and the
-clamp acts half a spacing behind its face); the bound is 8 %, and the sign is asserted: below the 3D value.
-The run also must stay stable, lose little energy and grow no sideways motion. About three minutes on 2 cores.
+The scene's scheme (quadratic-fit gradient with the strain-gradient nodal integration) comes out 1.6 % low at
+this spacing (docs/validation/REPORT.md; the plain nodal sum is 5.2 % low: the 4-layer lattice's second moment is
+6 % short of H^3/12, docs/validation/FINDINGS.md); the bound is 3 % (the issue's goal: 2 % over 10 periods, run
+by `make validate`), and the sign is asserted: below the 3D value. The run also must stay stable, lose little
+energy and grow no sideways motion. About four minutes on 2 cores.
 """
 import json
 
@@ -19,7 +20,7 @@ def test_quick_cantilever_ladder_within_bounds(tmp_path):
                 if r["L_mm"] == 40)
     assert summary["stable"]
     assert summary["reference_hz"] == fe3d
-    assert -0.08 < (summary["frequency_hz"] - fe3d) / fe3d < 0.0
+    assert -0.03 < (summary["frequency_hz"] - fe3d) / fe3d < 0.0
     # Beam theory is below the 3D value (shear and the clamp's compliance aside, the 3D beam is stiffened by
     # its width through nu); eq. (15), the plane-strain plate, is far above both.
     assert summary["error_vs_eq15_percent"] < -8.0
