@@ -78,6 +78,28 @@ def gradient_pair_force(force_rows, a, b, ux, uy, uz, s_ab, s_ba):
     return fx, fy, fz
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _add_scaled(m, k, p0, p1, p2, p3, p4, p5, p6, p7, p8):
+    """m + k p for nine moments held as a tuple (kept in registers, unlike an array the compiler must assume
+    aliased with the chunk buffer)."""
+    return (m[0] + k * p0, m[1] + k * p1, m[2] + k * p2, m[3] + k * p3, m[4] + k * p4, m[5] + k * p5,
+            m[6] + k * p6, m[7] + k * p7, m[8] + k * p8)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _scatter_moments(out, b, col, k, p0, p1, p2, p3, p4, p5, p6, p7, p8):
+    """b's share of a pair: b sees -u (the linear entries change sign) and the velocity difference -dv."""
+    out[b, col] += k * p0
+    out[b, col + 1] += k * p1
+    out[b, col + 2] += k * p2
+    out[b, col + 3] -= k * p3
+    out[b, col + 4] -= k * p4
+    out[b, col + 5] -= k * p5
+    out[b, col + 6] -= k * p6
+    out[b, col + 7] -= k * p7
+    out[b, col + 8] -= k * p8
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hessian, moments):
     """hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)]; `w` holds W_ab at `pos`.
@@ -91,11 +113,10 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
     for c in prange(chunks):
         out = moments[c]
         out[:, :] = 0.0
-        p = np.empty(9)
-        own = np.empty(27)    # particle a's moments, kept out of the shared buffer until its pairs are done
         for a in range(c * n // chunks, (c + 1) * n // chunks):
             va = mass[a] / rho[a]
-            own[:] = 0.0
+            zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            mx = my = mz = zero    # particle a's moments, one 9-tuple per velocity component
             for s in range(start[a], start[a + 1]):
                 if w[s] == 0.0:
                     continue
@@ -103,30 +124,27 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
                 ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
                 uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
                 uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-                p[0] = ux
-                p[1] = uy
-                p[2] = uz
-                p[3] = 0.5 * ux * ux
-                p[4] = 0.5 * uy * uy
-                p[5] = 0.5 * uz * uz
-                p[6] = ux * uy
-                p[7] = ux * uz
-                p[8] = uy * uz
+                qxx = 0.5 * ux * ux
+                qyy = 0.5 * uy * uy
+                qzz = 0.5 * uz * uz
+                qxy = ux * uy
+                qxz = ux * uz
+                qyz = uy * uz
                 sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
                 sba = va * w[s] * inv_h * inv_h
-                for i in range(3):
-                    dv = vel[b, i] - vel[a, i]
-                    ka = dv * sab
-                    kb = dv * sba
-                    # b sees -u (linear entries change sign) and the velocity difference -dv
-                    for r in range(3):
-                        own[9 * i + r] += ka * p[r]
-                        out[b, 9 * i + r] += kb * p[r]
-                    for r in range(3, 9):
-                        own[9 * i + r] += ka * p[r]
-                        out[b, 9 * i + r] -= kb * p[r]
-            for r in range(27):
-                out[a, r] += own[r]
+                dvx = vel[b, 0] - vel[a, 0]
+                dvy = vel[b, 1] - vel[a, 1]
+                dvz = vel[b, 2] - vel[a, 2]
+                mx = _add_scaled(mx, dvx * sab, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz)
+                my = _add_scaled(my, dvy * sab, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz)
+                mz = _add_scaled(mz, dvz * sab, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz)
+                _scatter_moments(out, b, 0, dvx * sba, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz)
+                _scatter_moments(out, b, 9, dvy * sba, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz)
+                _scatter_moments(out, b, 18, dvz * sba, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz)
+            for r in range(9):
+                out[a, r] += mx[r]
+                out[a, 9 + r] += my[r]
+                out[a, 18 + r] += mz[r]
     for a in prange(n):
         for c in range(1, chunks):
             for r in range(27):

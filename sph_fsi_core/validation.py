@@ -145,11 +145,6 @@ def _gate_rungs():
                       {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.velocity_gradient": "quadratic",
                        "solid.artificial_stress_epsilon": 0.0}, end_time=0.14, snapshot_interval=0.02,
                       note="dp = 1 mm, coupling pressure, quadratic-fit solid without artificial stress"))
-    rungs.append(Rung("elastic_gate", "pressure_gradient_dp1mm", "elastic_gate",
-                      {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.velocity_gradient": "quadratic",
-                       "solid.artificial_stress_epsilon": 0.0, "solid.nodal_integration": "gradient"}, end_time=0.14,
-                      snapshot_interval=0.02,
-                      note="dp = 1 mm, coupling pressure, quadratic-fit solid, strain-gradient nodal integration"))
     return rungs
 
 
