@@ -364,8 +364,8 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
                 fy += mm * (txy * gx + tyy * gy + tyz * gz)
                 fz += mm * (txz * gx + tyz * gy + tzz * gz)
                 if gradient_integration:
-                    hx, hy, hz = gradient_pair_force(force_rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h * inv_h,
-                                                     va * wab * inv_h * inv_h)
+                    hx, hy, hz = gradient_pair_force(force_rows, a, b, ux, uy, uz,
+                                                     mass[b] / rho[b] * wab * inv_h * inv_h, va * wab * inv_h * inv_h)
                     fx += hx
                     fy += hy
                     fz += hz
