@@ -17,6 +17,10 @@ SCENE_NAME = $(if $(SCENE),$(basename $(notdir $(SCENE))),default)
 OUT ?= runs/$(SCENE_NAME)
 ARGS ?=
 PYTEST_ARGS ?=
+# The suite runs one test file per worker (pytest-xdist), each single-threaded: most tests are small serial runs,
+# so two workers use both cores where one worker with two Numba threads kept one busy.
+TEST_WORKERS ?= 2
+TEST_THREADS ?= 1
 
 STAMP = $(VENV)/.installed
 # The editable install maps the packages that exist when it runs: reinstall when a package appears.
@@ -36,7 +40,7 @@ $(STAMP): requirements.txt requirements-dev.txt setup.py setup.cfg package.xml $
 install: $(STAMP)
 
 NODE_SCENE ?= elastic_gate
-NODE_PARAMS ?= -p numerics.spacing:=0.002 -p coupling.model:=pressure
+NODE_PARAMS ?= -p numerics.spacing:=0.002
 
 run: install
 	mkdir -p runs
@@ -49,12 +53,14 @@ headless: install
 	$(PY) -m sph_fsi.cli run $(SCENE) --out $(OUT) $(ARGS)
 	@echo "Outputs in $(OUT)/ (timeseries.csv, summary.json, snapshots)"
 
-# Tests get their own ROS domain (random 1..100) and stay on this host.
+# Tests get their own ROS domains (a random base 1..100; the node test files take fixed offsets from it) and stay
+# on this host.
 test: install
 	export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST; \
 	export ROS_DOMAIN_ID=$$(( RANDOM % 100 + 1 )); \
-	echo "ROS_DOMAIN_ID=$$ROS_DOMAIN_ID"; \
-	$(PY) -m pytest -q -p no:cacheprovider $(PYTEST_ARGS) test
+	export NUMBA_NUM_THREADS=$(TEST_THREADS); \
+	echo "ROS_DOMAIN_ID=$$ROS_DOMAIN_ID, $(TEST_WORKERS) pytest workers x $(TEST_THREADS) Numba thread(s)"; \
+	$(PY) -m pytest -q -p no:cacheprovider -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS) test
 
 validate: install
 	$(PY) -m sph_fsi.cli validate $(ARGS)

@@ -43,9 +43,11 @@ MOVING, CLAMP = 12 * 3 * 4, 4 * 3 * (4 + 2 * 2)     # 144, 96
 FIRST_CLOCK_TIMEOUT = 120.0         # a cold Numba cache compiles for ~30 s (more on a loaded machine)
 LATENCY_LIMIT = 0.2
 
-_rng = random.Random()
-DOMAIN = _rng.randint(1, 100)
-SIGNAL_DOMAIN = DOMAIN % 100 + 1     # the signal tests' nodes, apart from the module's node
+# `make test` picks a random base ROS_DOMAIN_ID per run; the modules that start nodes take fixed offsets from it
+# (test_replay.py: +2, +3), so modules running at the same time in two pytest-xdist workers never share a domain.
+_BASE = int(os.environ.get("ROS_DOMAIN_ID") or random.Random().randint(1, 100))
+DOMAIN = 1 + (_BASE - 1) % 100
+SIGNAL_DOMAIN = 1 + _BASE % 100      # the signal tests' nodes, apart from the module's node
 
 
 # ---- the node process -------------------------------------------------------------------------------------

@@ -28,7 +28,9 @@ from sph_fsi.replay import message_class  # noqa: E402
 
 PYTHON = str(Path(sys.prefix) / "bin" / "python")
 RERUN = str(Path(sys.prefix) / "bin" / "rerun")
-DOMAIN = random.Random().randint(1, 100)
+_BASE = int(os.environ.get("ROS_DOMAIN_ID") or random.Random().randint(1, 100))
+DOMAIN = 1 + (_BASE + 1) % 100       # test_node.py takes the base and base + 1 (see there)
+NODE_DOMAIN = 1 + (_BASE + 2) % 100
 SMALL = ["--set", "numerics.spacing=0.002"]
 TOPICS = {"/sph_fsi/particles": "sensor_msgs/msg/PointCloud2", "/sph_fsi/walls": "sensor_msgs/msg/PointCloud2",
           "/sph_fsi/tip_displacement": "geometry_msgs/msg/Vector3Stamped",
@@ -165,7 +167,7 @@ def test_node_records_mcap_and_rrd(ending, tmp_path):
     params = {"numerics.spacing": 0.002, "publish_period": 0.001, "record_interval": 0.002,
               "mcap_path": str(mcap), "rrd_path": str(rrd), "mcap_compression": "lz4"}
     params.update({"end_time": 0.01, "on_end": "exit"} if ending == "end_time" else {"end_time": 5.0})
-    proc = _node(params, DOMAIN % 100 + 1)
+    proc = _node(params, NODE_DOMAIN)
     try:
         if ending == "SIGINT":
             deadline = time.monotonic() + 300

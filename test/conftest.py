@@ -1,0 +1,18 @@
+"""Suite-wide order: the longest files first, so that `make test`'s two pytest-xdist workers (one file each at a
+time, --dist loadfile) end together instead of one waiting on a long file handed out last."""
+
+# the files that take more than a minute on one thread (pytest --durations), longest first
+LONG_FILES = ("validation/test_cantilever_quick.py", "test_artificial_stress.py", "validation/test_stability_ci.py",
+              "test_recording.py", "test_gradient_integration.py", "node/test_node.py")
+
+
+def _rank(item):
+    path = item.nodeid.split("::")[0]
+    for rank, name in enumerate(LONG_FILES):
+        if path.endswith(name):
+            return rank
+    return len(LONG_FILES)
+
+
+def pytest_collection_modifyitems(items):
+    items.sort(key=_rank)   # stable: the order within a file and among the rest is kept
