@@ -462,8 +462,10 @@ def test_rerun_connect_streams_live(tmp_path):
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     saved = tmp_path / "live.rrd"
+    # `rerun` is a Python launcher that starts the viewer binary as its child: its own session, so that the
+    # signals below reach the binary too (otherwise the binary outlives the test and leaves live.rrd unfinished)
     server = subprocess.Popen([RERUN, "--port", str(port), "--save", str(saved)], env=env(),
-                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
@@ -476,11 +478,17 @@ def test_rerun_connect_streams_live(tmp_path):
         assert r.returncode == 0, r.stderr
         time.sleep(1.0)
     finally:
-        server.send_signal(signal.SIGINT)
-        try:
-            server.wait(30)
-        except subprocess.TimeoutExpired:
-            server.kill()
+        os.killpg(server.pid, signal.SIGINT)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:       # the launcher and the binary, which finishes the file first
+            server.poll()
+            try:
+                os.killpg(server.pid, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.1)
+        else:
+            os.killpg(server.pid, signal.SIGKILL)
     data, static = rrd_contents(saved)
     assert sorted(data["/world/solid"]) == [round(k * 1e6) for k in range(6)]
     assert len(static["/world/walls"]["Points3D:positions"][0]) == CLAMP
