@@ -203,9 +203,10 @@ FLUID = [
 
 # Fluid-structure coupling (Satake et al. sec. 2.3; coupling.py). Only scenes with both a solid and a fluid.
 COUPLING = [
-    _p("coupling.model", "seed", "",
-       "Fluid's push on the solid: 'seed' the paper's eqs. (10)-(11) (correction displacement, projected on "
-       "surface normals, times gamma); 'pressure' equal and opposite pressure pair forces (momentum-conserving)",
+    _p("coupling.model", "pressure", "",
+       "Fluid's push on the solid: 'pressure' equal and opposite pressure pair forces (momentum-conserving; the "
+       "one that reproduces the paper's gate); 'seed' the paper's eqs. (10)-(11) (correction displacement, "
+       "projected on surface normals, times gamma), which carry almost no load",
        kind="str", choices=("seed", "pressure"), rebuild=False),
     _p("coupling.gamma", 10.0, "1", "Factor gamma of eq. (11), 'seed' model (the paper: 10)", low=0.0, high=1.0e4,
        rebuild=False),
