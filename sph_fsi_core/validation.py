@@ -138,6 +138,7 @@ def _gate_rungs():
         for model in ("seed", "pressure"):
             rungs.append(Rung("elastic_gate", f"{model}_{label}", "elastic_gate",
                               {"numerics.spacing": dp, "coupling.model": model, **extra}, end_time=0.14,
+                              snapshot_interval=0.02,
                               note=f"dp = {dp * 1e3:g} mm, coupling {model}; the paper's Figs. 6-8 (qualitative)"))
     # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins Gray's
     # gradient for its 2 mm runs, where the gate is 2 particles thick and the fit falls back to linear).
