@@ -36,6 +36,12 @@ _CHUNKS = 64
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def quadratic_monomials(ux, uy, uz):
+    """The quadratic part of the fit's basis p(u): (ux^2/2, uy^2/2, uz^2/2, ux uy, ux uz, uy uz)."""
+    return 0.5 * ux * ux, 0.5 * uy * uy, 0.5 * uz * uz, ux * uy, ux * uz, uy * uz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sym(i, j):
     """Index of component (i, j) of a symmetric tensor stored as XX, YY, ZZ, XY, XZ, YZ (tensors.py); the Hessian
     entries d_j d_k are stored in the same order."""
@@ -124,12 +130,7 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
                 ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
                 uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
                 uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
-                qxx = 0.5 * ux * ux
-                qyy = 0.5 * uy * uy
-                qzz = 0.5 * uz * uz
-                qxy = ux * uy
-                qxz = ux * uz
-                qyz = uy * uz
+                qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
                 sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
                 sba = va * w[s] * inv_h * inv_h
                 dvx = vel[b, 0] - vel[a, 0]

@@ -30,7 +30,7 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import minimum_image
-from .solid_gradient_integration import gradient_pair_force
+from .solid_gradient_integration import gradient_pair_force, quadratic_monomials
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
@@ -185,12 +185,7 @@ def _pair_weight_vector(rows_a, lx, ly, lz, qxx, qyy, qzz, qxy, qxz, qyz, scale)
 def _store_pair_weights(rows, a, b, ux, uy, uz, scale_ab, scale_ba, weights, s):
     """The pair's G_ab = scale_ab R_a p(u) and G_ba = scale_ba R_b p(-u) into weights[s], also returned as six
     scalars; u = (x_b - x_a) / h, the scales carry V W_ab / h of the other particle."""
-    qxx = 0.5 * ux * ux
-    qyy = 0.5 * uy * uy
-    qzz = 0.5 * uz * uz
-    qxy = ux * uy
-    qxz = ux * uz
-    qyz = uy * uz
+    qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
     gab0, gab1, gab2 = _pair_weight_vector(rows[a], ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz, scale_ab)
     gba0, gba1, gba2 = _pair_weight_vector(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz, scale_ba)
     weights[s, 0] = gab0
