@@ -1,6 +1,6 @@
 """The ROS 2 node, across processes: the node runs as its own process (the venv's python), this test process
-subscribes and calls its services with rclpy. Each module run uses its own random ROS_DOMAIN_ID, discovery on
-localhost only.
+subscribes and calls its services with rclpy. Each module run uses its own ROS_DOMAIN_ID (fixed offsets from
+the run's random base, below), discovery on localhost only.
 
 CPU: the node runs single-threaded (NUMBA_NUM_THREADS=1) on a small cantilever (12 x 3 x 4 mm at 1 mm: 144
 moving + 96 clamp particles) with a publish period of 1 ms (4 outer steps).
