@@ -30,6 +30,7 @@ import math
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
+from .neighbours import chunk_first_target
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -66,7 +67,7 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
         out = buf[c]
         for a in range(n):
             out[a, 0] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
             xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
             ma = mass[a]
             s = ma * sigma
@@ -172,7 +173,7 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
             out[a, 0] = 0.0
             out[a, 1] = 0.0
             out[a, 2] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
             xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
             qa = p_over_rho2[a]
             ma = mass[a]
@@ -262,7 +263,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
             out[a, 0] = 0.0
             out[a, 1] = 0.0
             out[a, 2] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
             xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
             mua = rho[a] * nu
             ma = mass[a]

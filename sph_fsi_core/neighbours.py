@@ -4,8 +4,9 @@ A `NeighbourList` holds, for each target particle a, the source particles b with
 (2h plus a skin) in compressed rows: `start[a]:start[a+1]` index `index`. A full list has every pair in both
 rows (and a's own pair), so a pass over it is a gather, race-free in parallel. A half list (targets and sources
 the same set) keeps each pair once, b > a, no self pair: a pass over it evaluates each pair once and adds to both
-particles, through per-chunk buffers (see solid_gray2001.py); that halves the kernel and pair arithmetic. The skin lets a list serve many steps: it is rebuilt only once some particle
-has moved more than half the skin since the build (Verlet's criterion).
+particles, through per-chunk buffers (see solid_gray2001.py; chunk_first_target cuts the targets into chunks
+of equal work); that halves the kernel and pair arithmetic. The skin lets a list serve many steps: it is rebuilt
+only once some particle has moved more than half the skin since the build (Verlet's criterion).
 
 Periodicity: an axis with a positive entry in `period` wraps (minimum image); the period must be at least
 twice the cutoff so that one image is enough.
@@ -90,6 +91,32 @@ def minimum_image(d, period):
     if period > 0.0:
         return d - period * math.floor(d / period + 0.5)
     return d
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def chunk_first_target(start, chunk, chunks):
+    """First target of `chunk` when a pair list's targets are cut into `chunks` runs of about equal work.
+
+    A particle's work is taken as its pair count plus one, so the cut is a binary search on start[a] + a. Equal
+    particle counts are not equal work on a half list: in a thin plate stored layer by layer the first layers own
+    the pairs to the next ones and the last layer owns almost none (the paper's gate, 4 layers thick, put two
+    thirds of the pairs in the first of two chunks).
+    """
+    n = start.shape[0] - 1
+    if chunk <= 0:
+        return 0
+    if chunk >= chunks:
+        return n
+    target = (start[n] + n) * chunk // chunks
+    lo = 0
+    hi = n
+    while lo < hi:   # first a with start[a] + a >= target
+        mid = (lo + hi) // 2
+        if start[mid] + mid < target:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)

@@ -28,7 +28,7 @@ linear (fewer than three layers) have zero Hessian rows and no correction.
 import numpy as np
 from numba import njit, prange
 
-from .neighbours import minimum_image
+from .neighbours import chunk_first_target, minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
@@ -119,7 +119,7 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
     for c in prange(chunks):
         out = moments[c]
         out[:, :] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
             zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             mx = my = mz = zero    # particle a's moments, one 9-tuple per velocity component

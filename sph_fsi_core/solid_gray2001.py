@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
-from .neighbours import minimum_image
+from .neighbours import chunk_first_target, minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
 
@@ -64,7 +64,7 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
     for c in prange(chunks):
         out = buf[c]
         out[:, :] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
             # a's sums stay in registers; only b's go through the buffer
             x0 = x1 = x2 = 0.0
@@ -185,7 +185,7 @@ def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
     for c in prange(chunks):
         out = buf[c]
         out[:, 0] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
             da = 0.0
             for s in range(start[a], start[a + 1]):
@@ -348,7 +348,7 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
     for c in prange(chunks):
         out = buf[c]
         out[:, 0:3] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             ax = ay = az = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]

@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
-from .neighbours import minimum_image
+from .neighbours import chunk_first_target, minimum_image
 from .solid_gradient_integration import gradient_pair_force, quadratic_monomials
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
@@ -124,7 +124,7 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
         out = moment_buf[c]
         out[:, :] = 0.0
         p = np.empty(N_BASIS)
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
             for s in range(start[a], start[a + 1]):
                 b = index[s]
@@ -209,7 +209,7 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
     for c in prange(chunks):
         out = buf[c]
         out[:, 0:12] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             # particle a's sums stay in registers; only b's go through the chunk buffer
             xa = ya = za = 0.0
             lxx = lxy = lxz = lyx = lyy = lyz = lzx = lzy = lzz = 0.0
@@ -310,7 +310,7 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
     for c in prange(chunks):
         out = buf[c]
         out[:, 0:3] = 0.0
-        for a in range(c * n // chunks, (c + 1) * n // chunks):
+        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
             ka = mass[a] * rho[a]
             sa = sigma_over_rho2[a]

@@ -2,7 +2,8 @@
 import numpy as np
 import pytest
 
-from sph_fsi_core.neighbours import MAX_CELLS_PER_AXIS, MIN_CELL_BUDGET, NeighbourList, _grid, max_displacement, minimum_image
+from sph_fsi_core.neighbours import (MAX_CELLS_PER_AXIS, MIN_CELL_BUDGET, NeighbourList, _grid, chunk_first_target,
+                                     max_displacement, minimum_image)
 
 BOX = np.array([0.03, 0.02, 0.025])
 
@@ -256,3 +257,38 @@ def test_build_does_not_keep_a_view_of_the_positions():
     nl.build(pos, pos)
     pos[0, 0] += 1.0                          # moved in place, as the stepper does
     assert nl.is_stale(pos, pos)
+
+
+def _plate(layers, ny, nz, dp):
+    """A lattice stored layer by layer along x (x outermost), as the scene builders store the paper's gate."""
+    x, y, z = np.meshgrid(np.arange(layers), np.arange(ny), np.arange(nz), indexing="ij")
+    return np.ascontiguousarray(np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1) * dp + 0.5 * dp)
+
+
+@pytest.mark.parametrize("chunks", [2, 3, 4, 8])
+def test_chunks_of_a_thin_plate_carry_equal_work(chunks):
+    dp = 1e-3
+    pos = _plate(4, 12, 20, dp)
+    nl = NeighbourList(1.3 * dp * 2, 0.05 * dp, half=True)
+    nl.build(pos, pos)
+    n = len(pos)
+    bounds = [chunk_first_target(nl.start, c, chunks) for c in range(chunks + 1)]
+    assert bounds[0] == 0 and bounds[-1] == n
+    assert all(lo <= hi for lo, hi in zip(bounds, bounds[1:]))
+    work = nl.start + np.arange(n + 1)          # pairs + one per particle, as the cut counts it
+    per_chunk = np.diff(work[bounds])
+    heaviest_row = int(np.diff(work).max())
+    ideal = work[-1] / chunks                     # each cut lands within one row of its target
+    assert np.all(np.abs(per_chunk - ideal) <= heaviest_row)
+    # an equal count of particles would not do: the first layers own the pairs to the next ones
+    by_count = np.diff(work[[c * n // chunks for c in range(chunks + 1)]])
+    assert by_count.max() > 1.3 * per_chunk.max()
+
+
+@pytest.mark.parametrize("n, chunks", [(0, 2), (5, 8), (100, 3)])
+def test_chunks_without_pairs_split_the_particles(n, chunks):
+    start = np.zeros(n + 1, dtype=np.int64)
+    bounds = [chunk_first_target(start, c, chunks) for c in range(chunks + 1)]
+    assert bounds[0] == 0 and bounds[-1] == n
+    sizes = np.diff(bounds)
+    assert sizes.min() >= 0 and sizes.max() - sizes.min() <= 1
