@@ -30,6 +30,8 @@ __all__ = ["Simulation", "Diverged"]
 
 _NO_EXTERNAL = np.zeros((0, 3))
 _NO_MIRROR = np.zeros(0, dtype=np.int64)
+# the largest solid.cfl run with the quadratic fit: 0.35 held on the paper's beam (0.3 in its gate), 0.4 diverged
+QUADRATIC_FIT_TESTED_CFL = 0.35
 
 
 class Simulation:
@@ -60,7 +62,8 @@ class Simulation:
         self.last_solid_dt = 0.0
         self.last_substeps = 0
         self.warnings = []
-        self._artificial_stress_warning = None   # the one warning that follows live changes
+        self._artificial_stress_warning = None   # the warnings that follow live changes
+        self._cfl_warning = None
         self.neighbour_builds = 0
         if self.solid is not None:
             self._initial_positions = self.solid.pos.copy()
@@ -77,6 +80,7 @@ class Simulation:
             self._rebuild_solid_neighbours()
             self._warn_if_quadratic_fit_falls_back()
             self._warn_about_artificial_stress()
+            self._warn_about_solid_cfl()
             self._solid_acceleration()
         self.fluid_solver = None
         self.fluid_steps = 0
@@ -225,12 +229,25 @@ class Simulation:
                        f"{v['solid.poisson_ratio']:g}: the artificial stress is not paired with the strain rate, and "
                        f"in a nearly incompressible body it feeds a spurious mode that grows at fine spacings (the "
                        f"paper's beam diverged at H/dp = 8); the quadratic fit needs none: set it to 0")
-        previous = self._artificial_stress_warning
+        self._artificial_stress_warning = self._replace_live_warning(self._artificial_stress_warning, warning)
+
+    def _warn_about_solid_cfl(self):
+        """The quadratic fit's stable solid.cfl is lower than Gray's gradient's (docs/validation/FINDINGS.md)."""
+        v = self.spec.values
+        warning = None
+        if v["solid.velocity_gradient"] == "quadratic" and v["solid.cfl"] > QUADRATIC_FIT_TESTED_CFL:
+            warning = (f"solid.cfl = {v['solid.cfl']:g} with the quadratic fit: its stable limit lay between 0.35 and "
+                       f"0.4 on the paper's beam (Gray's gradient ran stably to 1.0 in the paper's gate); "
+                       f"{QUADRATIC_FIT_TESTED_CFL:g} or less is tested")
+        self._cfl_warning = self._replace_live_warning(self._cfl_warning, warning)
+
+    def _replace_live_warning(self, previous, warning):
+        """A warning that follows live changes: the previous one goes, the new one (if any) is added."""
         if previous in self.warnings and previous != warning:
             self.warnings.remove(previous)
         if warning is not None and warning not in self.warnings:
             self.warnings.append(warning)
-        self._artificial_stress_warning = warning
+        return warning
 
     def _solid_acceleration(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
@@ -267,6 +284,7 @@ class Simulation:
         if self.solid is not None:
             self._apply_solid_settings()
             self._warn_about_artificial_stress()
+            self._warn_about_solid_cfl()
         if self.fluid is not None:
             self._apply_fluid_settings()
         if self.coupling is not None:

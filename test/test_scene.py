@@ -433,3 +433,21 @@ def test_cantilever_frequency_needs_one_reference_period():
     assert "0.50 periods" in short["frequency_note"]
     full = cantilever.evaluate(record(5.0 / ref), values)
     assert full["error"] < 1e-3
+
+
+def test_a_solid_cfl_past_the_quadratic_fits_tested_value_warns_and_follows_live_changes():
+    """The fit's stable limit is lower than Gray's gradient's (FINDINGS.md, "Measured and holding")."""
+    from sph_fsi_core.simulation import QUADRATIC_FIT_TESTED_CFL, Simulation
+    small = [("geometry.length", 0.01), ("solid.velocity_gradient", "quadratic")]
+    assert not any("solid.cfl" in w for w in Simulation(load_scene("cantilever", small)).warnings)
+    sim = Simulation(load_scene("cantilever", small + [("solid.cfl", 0.5)]))
+    warned = [w for w in sim.warnings if "solid.cfl = 0.5" in w]
+    assert len(warned) == 1 and f"{QUADRATIC_FIT_TESTED_CFL:g} or less" in warned[0]
+    sim.apply({"solid.cfl": QUADRATIC_FIT_TESTED_CFL})
+    assert not any("solid.cfl" in w for w in sim.warnings)
+    sim.apply({"solid.cfl": 0.45})
+    assert sum("solid.cfl = 0.45" in w for w in sim.warnings) == 1
+    gray = Simulation(load_scene("cantilever", [("geometry.length", 0.01), ("solid.velocity_gradient", "sph"),
+                                                ("solid.nodal_integration", "plain"),
+                                                ("solid.cfl", 0.5)]))
+    assert not any("solid.cfl" in w for w in gray.warnings)
