@@ -13,6 +13,7 @@ from sph_fsi_core.references import (beam_theory_frequency, cantilever_mode_velo
 from sph_fsi_core.scene import defaults_yaml, load_scene
 from sph_fsi_core.scenes import BUILDERS, cantilever
 from sph_fsi_core.schema import SceneError
+from sph_fsi_core.simulation import QUADRATIC_FIT_TESTED_CFL, Simulation
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED_REFERENCE = Path(__file__).resolve().parents[2] / "shared" / "reference"
@@ -303,7 +304,6 @@ def test_unknown_scene_name_and_missing_file(tmp_path):
 
 
 def test_time_step_above_stable_limit_is_refused():
-    from sph_fsi_core.simulation import Simulation
     spec = load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-3"])
     assert spec["solid.time_step"] == 1e-3       # in range for the schema; the stability check is the simulation's
     with pytest.raises(SceneError) as info:
@@ -437,7 +437,6 @@ def test_cantilever_frequency_needs_one_reference_period():
 
 def test_a_solid_cfl_past_the_quadratic_fits_tested_value_warns_and_follows_live_changes():
     """The fit's stable limit is lower than Gray's gradient's (FINDINGS.md, "Measured and holding")."""
-    from sph_fsi_core.simulation import QUADRATIC_FIT_TESTED_CFL, Simulation
     small = [("geometry.length", 0.01), ("solid.velocity_gradient", "quadratic")]
     assert not any("solid.cfl" in w for w in Simulation(load_scene("cantilever", small)).warnings)
     sim = Simulation(load_scene("cantilever", small + [("solid.cfl", 0.5)]))
