@@ -86,11 +86,22 @@ def _wrapped_cells(c, n, periodic, out):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def minimum_image(d, period):
-    """Shortest periodic separation along one axis (period <= 0: not periodic)."""
+def minimum_image(d, period, inv_period):
+    """Shortest periodic separation along one axis (period <= 0: not periodic); inv_period = 1 / period
+    (inverse_periods), so the pair loops multiply instead of divide (4-6 % of the periodic gate's solid passes)."""
     if period > 0.0:
-        return d - period * math.floor(d / period + 0.5)
+        return d - period * math.floor(d * inv_period + 0.5)
     return d
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def inverse_periods(period):
+    """1 / period per axis for minimum_image (0 where the axis is not periodic)."""
+    inv = np.zeros(3)
+    for k in range(3):
+        if period[k] > 0.0:
+            inv[k] = 1.0 / period[k]
+    return inv
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -125,6 +136,7 @@ def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutof
 
     half: targets and sources are the same set and only pairs with b > a are kept.
     """
+    inv_period = inverse_periods(period)
     cutoff2 = cutoff * cutoff
     for a in prange(targets.shape[0]):
         cx = np.empty(3, dtype=np.int64)
@@ -143,9 +155,9 @@ def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutof
                         b = order[s]
                         if half and b <= a:
                             continue
-                        dx = minimum_image(targets[a, 0] - sources[b, 0], period[0])
-                        dy = minimum_image(targets[a, 1] - sources[b, 1], period[1])
-                        dz = minimum_image(targets[a, 2] - sources[b, 2], period[2])
+                        dx = minimum_image(targets[a, 0] - sources[b, 0], period[0], inv_period[0])
+                        dy = minimum_image(targets[a, 1] - sources[b, 1], period[1], inv_period[1])
+                        dz = minimum_image(targets[a, 2] - sources[b, 2], period[2], inv_period[2])
                         if dx * dx + dy * dy + dz * dz < cutoff2:
                             if fill:
                                 index[slot] = b
@@ -158,14 +170,15 @@ def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutof
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pair_kernel_values(targets, sources, start, index, h, period, w, f):
     """Pair cache for one configuration: W_ab and F_ab = (dW/dr)/r (eq. (1)'s kernel), r_ab by minimum image."""
+    inv_period = inverse_periods(period)
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
     for a in prange(targets.shape[0]):
         for s in range(start[a], start[a + 1]):
             b = index[s]
-            dx = minimum_image(targets[a, 0] - sources[b, 0], period[0])
-            dy = minimum_image(targets[a, 1] - sources[b, 1], period[1])
-            dz = minimum_image(targets[a, 2] - sources[b, 2], period[2])
+            dx = minimum_image(targets[a, 0] - sources[b, 0], period[0], inv_period[0])
+            dy = minimum_image(targets[a, 1] - sources[b, 1], period[1], inv_period[1])
+            dz = minimum_image(targets[a, 2] - sources[b, 2], period[2], inv_period[2])
             w[s], f[s] = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
 
 

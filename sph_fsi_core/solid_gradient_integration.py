@@ -28,7 +28,7 @@ linear (fewer than three layers) have zero Hessian rows and no correction.
 import numpy as np
 from numba import njit, prange
 
-from .neighbours import chunk_first_target, minimum_image
+from .neighbours import chunk_first_target, inverse_periods, minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
@@ -113,6 +113,7 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
     H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab): the pairs only sum the 27 moments (per-chunk
     `moments`, chunks x N x 27), the rows are applied once per particle.
     """
+    inv_period = inverse_periods(period)
     n = pos.shape[0]
     inv_h = 1.0 / h
     chunks = moments.shape[0]
@@ -127,9 +128,9 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
                 if w[s] == 0.0:
                     continue
                 b = index[s]
-                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0]) * inv_h
+                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1]) * inv_h
+                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2]) * inv_h
                 qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
                 sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
                 sba = va * w[s] * inv_h * inv_h

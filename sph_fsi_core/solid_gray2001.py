@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
-from .neighbours import chunk_first_target, minimum_image
+from .neighbours import chunk_first_target, inverse_periods, minimum_image
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
 
@@ -59,6 +59,7 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
     gradient that is exact for linear fields also where the kernel is truncated (free surfaces); K^-1 is left
     in `kinv` (N, 3, 3) for the momentum pass. Not in the paper (Gray 2001 uses the plain sum); a scene option.
     """
+    inv_period = inverse_periods(period)
     n = vel.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -72,9 +73,9 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 b = index[s]
                 vb = mass[b] / rho[b]
                 fs = f[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
                 gx = fs * rx
                 gy = fs * ry
                 gz = fs * rz
@@ -180,6 +181,7 @@ def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
     Half list: the pair's (vhat_a - vhat_b) . grad_a W_ab is the same seen from b, so it adds V_b times it to a's
     sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient).
     """
+    inv_period = inverse_periods(period)
     n = vhat.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -190,9 +192,9 @@ def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
             da = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
                 d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
                             + (vhat[a, 2] - vhat[b, 2]) * rz)
                 da += mass[b] / rho[b] * d
@@ -340,6 +342,7 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
     Pairs of two clamp particles (`movable` False) only refresh the cache: their forces act on no moving particle
     (and with the mirrored clamp they would move the ghosts' images).
     """
+    inv_period = inverse_periods(period)
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
@@ -352,9 +355,9 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
             ax = ay = az = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
                 r2 = rx * rx + ry * ry + rz * rz
                 r = math.sqrt(r2)
                 wab, fab = cubic_spline_wf(r, inv_h, sigma)

@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
-from .neighbours import chunk_first_target, minimum_image
+from .neighbours import chunk_first_target, inverse_periods, minimum_image
 from .solid_gradient_integration import gradient_pair_force, quadratic_monomials
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
@@ -59,11 +59,11 @@ def _basis(ux, uy, uz, p):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _scaled_offset_and_weight(pos, a, b, period, h, inv_h):
+def _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h):
     """u_ab = (x_b - x_a) / h (minimum image) and W_ab: what the fit's moments and its pair weights are built from."""
-    ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0]) * inv_h
-    uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1]) * inv_h
-    uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2]) * inv_h
+    ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0]) * inv_h
+    uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1]) * inv_h
+    uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2]) * inv_h
     return ux, uy, uz, cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
 
 
@@ -117,6 +117,7 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
     One pass over the half list into per-chunk moment sums `moment_buf` (chunks, N, 45), then one small
     Cholesky solve per particle. Call after every neighbour-list build.
     """
+    inv_period = inverse_periods(period)
     n = pos.shape[0]
     chunks = moment_buf.shape[0]
     inv_h = 1.0 / h
@@ -128,7 +129,7 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
             va = mass[a] / rho[a]
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, h, inv_h)
+                ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
                 _basis(ux, uy, uz, p)
                 wa = mass[b] / rho[b] * wab
                 wb = va * wab
@@ -268,12 +269,13 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
     """The pair cache `weights` (pairs, 6) = (G_ab, G_ba) at the current positions (after a list build)."""
+    inv_period = inverse_periods(period)
     inv_h = 1.0 / h
     for a in prange(pos.shape[0]):
         va = mass[a] / rho[a]
         for s in range(start[a], start[a + 1]):
             b = index[s]
-            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, h, inv_h)
+            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
             _store_pair_weights(rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
 
 
@@ -300,6 +302,7 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
     off) the pair also carries the stress gradient's force (solid_gradient_integration.gradient_pair_force), here
     where u and W_ab are at hand rather than in a pass of its own.
     """
+    inv_period = inverse_periods(period)
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     support2 = 4.0 * h * h
@@ -317,9 +320,9 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
             fax = fay = faz = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2])
+                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
+                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
+                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
                 r2 = rx * rx + ry * ry + rz * rz
                 if r2 >= support2:   # in the list's skin, outside the kernel: the pair is idle until it closes in
                     w[s] = 0.0

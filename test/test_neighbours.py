@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.neighbours import (MAX_CELLS_PER_AXIS, MIN_CELL_BUDGET, NeighbourList, _grid, chunk_first_target,
-                                     max_displacement, minimum_image)
+                                     inverse_periods, max_displacement, minimum_image)
 
 BOX = np.array([0.03, 0.02, 0.025])
 
@@ -210,11 +210,15 @@ def test_period_below_twice_cutoff_is_refused(axis):
 
 
 def test_minimum_image():
-    assert minimum_image(0.7, 1.0) == pytest.approx(-0.3, abs=1e-15)
-    assert minimum_image(-0.7, 1.0) == pytest.approx(0.3, abs=1e-15)
-    assert minimum_image(0.2, 1.0) == pytest.approx(0.2, abs=1e-15)
-    assert minimum_image(2.2, 1.0) == pytest.approx(0.2, abs=1e-14)
-    assert minimum_image(0.7, 0.0) == 0.7
+    period = np.array([1.0, 0.036, 0.0])
+    inv = inverse_periods(period)
+    assert inv[0] == 1.0 and inv[1] == pytest.approx(1.0 / 0.036, rel=1e-15) and inv[2] == 0.0
+    assert minimum_image(0.7, 1.0, inv[0]) == pytest.approx(-0.3, abs=1e-15)
+    assert minimum_image(-0.7, 1.0, inv[0]) == pytest.approx(0.3, abs=1e-15)
+    assert minimum_image(0.2, 1.0, inv[0]) == pytest.approx(0.2, abs=1e-15)
+    assert minimum_image(2.2, 1.0, inv[0]) == pytest.approx(0.2, abs=1e-14)
+    assert minimum_image(-0.035, 0.036, inv[1]) == pytest.approx(0.001, abs=1e-15)
+    assert minimum_image(0.7, 0.0, inv[2]) == 0.7
 
 
 def test_is_stale_and_update():
