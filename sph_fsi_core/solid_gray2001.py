@@ -64,11 +64,13 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
-        out[:, :] = 0.0
+        out[:, 0:18 if correct_gradient else 12] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
             # a's sums stay in registers; only b's go through the buffer
             x0 = x1 = x2 = 0.0
+            l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
+            k00 = k01 = k02 = k11 = k12 = k22 = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
                 vb = mass[b] / rho[b]
@@ -98,15 +100,15 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 o20 = dvz * gx
                 o21 = dvz * gy
                 o22 = dvz * gz
-                out[a, 3] += vb * o00
-                out[a, 4] += vb * o01
-                out[a, 5] += vb * o02
-                out[a, 6] += vb * o10
-                out[a, 7] += vb * o11
-                out[a, 8] += vb * o12
-                out[a, 9] += vb * o20
-                out[a, 10] += vb * o21
-                out[a, 11] += vb * o22
+                l00 += vb * o00
+                l01 += vb * o01
+                l02 += vb * o02
+                l10 += vb * o10
+                l11 += vb * o11
+                l12 += vb * o12
+                l20 += vb * o20
+                l21 += vb * o21
+                l22 += vb * o22
                 out[b, 3] += va * o00
                 out[b, 4] += va * o01
                 out[b, 5] += va * o02
@@ -118,27 +120,43 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
                 out[b, 11] += va * o22
                 if correct_gradient:
                     # -(r_ab (x) g) is the pair's K term seen from both sides (r_ab (x) g is symmetric)
-                    k00 = -rx * gx
-                    k01 = -rx * gy
-                    k02 = -rx * gz
-                    k11 = -ry * gy
-                    k12 = -ry * gz
-                    k22 = -rz * gz
-                    out[a, 12] += vb * k00
-                    out[a, 13] += vb * k01
-                    out[a, 14] += vb * k02
-                    out[a, 15] += vb * k11
-                    out[a, 16] += vb * k12
-                    out[a, 17] += vb * k22
-                    out[b, 12] += va * k00
-                    out[b, 13] += va * k01
-                    out[b, 14] += va * k02
-                    out[b, 15] += va * k11
-                    out[b, 16] += va * k12
-                    out[b, 17] += va * k22
+                    q00 = -rx * gx
+                    q01 = -rx * gy
+                    q02 = -rx * gz
+                    q11 = -ry * gy
+                    q12 = -ry * gz
+                    q22 = -rz * gz
+                    k00 += vb * q00
+                    k01 += vb * q01
+                    k02 += vb * q02
+                    k11 += vb * q11
+                    k12 += vb * q12
+                    k22 += vb * q22
+                    out[b, 12] += va * q00
+                    out[b, 13] += va * q01
+                    out[b, 14] += va * q02
+                    out[b, 15] += va * q11
+                    out[b, 16] += va * q12
+                    out[b, 17] += va * q22
             out[a, 0] += x0
             out[a, 1] += x1
             out[a, 2] += x2
+            out[a, 3] += l00
+            out[a, 4] += l01
+            out[a, 5] += l02
+            out[a, 6] += l10
+            out[a, 7] += l11
+            out[a, 8] += l12
+            out[a, 9] += l20
+            out[a, 10] += l21
+            out[a, 11] += l22
+            if correct_gradient:
+                out[a, 12] += k00
+                out[a, 13] += k01
+                out[a, 14] += k02
+                out[a, 15] += k11
+                out[a, 16] += k12
+                out[a, 17] += k22
     for a in prange(n):
         sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v)
         if correct_gradient:
