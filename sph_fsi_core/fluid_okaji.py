@@ -31,6 +31,7 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_wf
 from .neighbours import chunk_first_target
+from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, kernel_block, pad_block, padded
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -45,57 +46,67 @@ def _image(d, period, half_period):
     return d
 
 
+# block columns of the density pass (pair_blocks.py)
+_R2, _W, _F = 0, 1, 2
+DENSITY_BLOCK_COLUMNS = 3
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_period, h, inv_h, sigma, block,
+                 f_cache, scatter_mass, out):
+    """Eq. (1)'s sum over one neighbour row (index[k0:k1] into src_pos), in blocks: returns s + sum_b m_b W_ab
+    (added in the row's order) and leaves F_ab in f_cache[k0:k1]; with scatter_mass > 0 (a half list of the fluid)
+    also adds scatter_mass W_ab to out[b, 0]. Pairs in the list's skin give W = F = 0 and change no sum."""
+    for lo in range(k0, k1, BLOCK):
+        m = min(BLOCK, k1 - lo)
+        for j in range(m):
+            b = index[lo + j]
+            dx = _image(xa - src_pos[b, 0], period[0], half_period[0])
+            dy = _image(ya - src_pos[b, 1], period[1], half_period[1])
+            dz = _image(za - src_pos[b, 2], period[2], half_period[2])
+            block[_R2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
+        pad_block(block, m, _R2, (FAR_IN_H * h) ** 2, 0, 0, 0.0)
+        kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma)
+        for j in range(m):
+            b = index[lo + j]
+            w = block[_W * STRIDE + j]
+            s += src_mass[b] * w
+            if scatter_mass > 0.0:
+                out[b, 0] += scatter_mass * w
+            f_cache[lo + j] = block[_F * STRIDE + j]
+    return s
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho, p,
-                      p_over_rho2, f_fluid, f_wall, buf):
+                      p_over_rho2, f_fluid, f_wall, buf, blocks):
     """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions (own pair included,
     W(0) = 1 / (pi h^3)); then, per particle, eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0),
     and p_a / rho_a^2 for eq. (2).
 
     Also caches F_ab = (dW/dr)/r per pair (`f_fluid`, `f_wall`, aligned with the lists' `index`), for the
     pressure-gradient and viscous passes at the same positions. (Eq. (7) rides along because it needs only the
-    particle's own density: one parallel region less per iteration.)
+    particle's own density: one parallel region less per iteration.) The kernel is evaluated in blocks of pairs
+    (pair_blocks.py; `blocks`: per-chunk scratch of DENSITY_BLOCK_COLUMNS columns).
     """
     n = pos.shape[0]
     chunks = buf.shape[0]
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
-    support2 = 4.0 * h * h
-    px, py, pz = period[0], period[1], period[2]
-    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
+    half_period = 0.5 * period
     for c in prange(chunks):
         out = buf[c]
+        block = blocks[c]
         for a in range(n):
             out[a, 0] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
             xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
             ma = mass[a]
             s = ma * sigma
-            for k in range(fstart[a], fstart[a + 1]):
-                b = findex[k]
-                dx = _image(xa - pos[b, 0], px, hx)
-                dy = _image(ya - pos[b, 1], py, hy)
-                dz = _image(za - pos[b, 2], pz, hz)
-                r2 = dx * dx + dy * dy + dz * dz
-                if r2 >= support2:      # in the list's skin: no contribution
-                    f_fluid[k] = 0.0
-                    continue
-                w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-                s += mass[b] * w
-                out[b, 0] += ma * w
-                f_fluid[k] = f
-            for k in range(wstart[a], wstart[a + 1]):
-                b = windex[k]
-                dx = _image(xa - wall_pos[b, 0], px, hx)
-                dy = _image(ya - wall_pos[b, 1], py, hy)
-                dz = _image(za - wall_pos[b, 2], pz, hz)
-                r2 = dx * dx + dy * dy + dz * dz
-                if r2 >= support2:
-                    f_wall[k] = 0.0
-                    continue
-                w, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-                s += wall_mass[b] * w
-                f_wall[k] = f
+            s = _density_row(s, xa, ya, za, pos, mass, findex, fstart[a], fstart[a + 1], period, half_period, h,
+                              inv_h, sigma, block, f_fluid, ma, out)
+            s = _density_row(s, xa, ya, za, wall_pos, wall_mass, windex, wstart[a], wstart[a + 1], period,
+                              half_period, h, inv_h, sigma, block, f_wall, 0.0, out)
             out[a, 0] += s
     for a in prange(n):
         s = 0.0

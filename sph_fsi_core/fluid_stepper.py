@@ -33,11 +33,12 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from .fluid_okaji import (_image, apply_displacement, compression_error, gravity_and_predictor,
+from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, _image, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
 from .neighbours import NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells
+from .pair_blocks import block_scratch
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
 
@@ -56,7 +57,7 @@ class StepReport(NamedTuple):
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
                     wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0,
                     c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
-                    moved2, buf):
+                    moved2, buf, blocks):
     """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
     Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
@@ -66,7 +67,7 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
     it = it_start
     while True:
         summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho,
-                          p, p_over_rho2, f_fluid, f_wall, buf)
+                          p, p_over_rho2, f_fluid, f_wall, buf, blocks)
         emax, emean = compression_error(rho, rho0)
         err = emean if on_mean else emax
         if it >= min_iterations and err <= tolerance:
@@ -187,6 +188,7 @@ class FluidSolver:
         self.vel_work = np.zeros((n, 3))
         self.moved2 = np.zeros(n)
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 3))   # per-chunk pair accumulators
+        self.blocks = block_scratch(self.buf.shape[0], DENSITY_BLOCK_COLUMNS)   # per-chunk pair blocks
         self.f_fluid = np.zeros(0)
         self.f_wall = np.zeros(0)
         self.builds = 0
@@ -248,7 +250,7 @@ class FluidSolver:
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
                           self.period, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2, self.f_fluid,
-                          self.f_wall, self.buf)
+                          self.f_wall, self.buf, self.blocks)
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
@@ -291,7 +293,7 @@ class FluidSolver:
                 self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
                 wfstart, wfindex, self.period, self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean,
                 self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
-                fl.correction_displacement, self.moved2, self.buf)
+                fl.correction_displacement, self.moved2, self.buf, self.blocks)
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it

@@ -17,6 +17,13 @@ SUPPORT_RADIUS_IN_H = 2.0
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def positive_part(x):
+    """max(x, 0) as a select: the builtin max is a call into another compiled library, which keeps a loop that
+    uses it from running in SIMD lanes in its own library (pair_blocks.py)."""
+    return x if x > 0.0 else 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def cubic_spline_w(r, h):
     """W(r, h) of the M4 cubic spline in 3D, eq. (1)'s kernel.
 
@@ -24,8 +31,8 @@ def cubic_spline_w(r, h):
     pairs arrive in no particular order of q, so branches would be mispredicted often.
     """
     q = r / h
-    t2 = max(2.0 - q, 0.0)
-    t1 = max(1.0 - q, 0.0)
+    t2 = positive_part(2.0 - q)
+    t1 = positive_part(1.0 - q)
     return (0.25 * t2 * t2 * t2 - t1 * t1 * t1) / (math.pi * h * h * h)
 
 
@@ -37,8 +44,8 @@ def cubic_spline_f(r, h):
     expression below is exact there too because dW/dq vanishes linearly in q.
     """
     q = r / h
-    t2 = max(2.0 - q, 0.0)
-    t1 = max(1.0 - q, 0.0)
+    t2 = positive_part(2.0 - q)
+    t1 = positive_part(1.0 - q)
     sigma_h2 = 1.0 / (math.pi * h * h * h * h * h)
     if q < 1e-12:
         return -3.0 * sigma_h2
@@ -53,8 +60,8 @@ def cubic_spline_wf(r, inv_h, sigma):
     this is the form the per-step pair passes use.
     """
     q = r * inv_h
-    t2 = max(2.0 - q, 0.0)
-    t1 = max(1.0 - q, 0.0)
+    t2 = positive_part(2.0 - q)
+    t1 = positive_part(1.0 - q)
     w = sigma * (0.25 * t2 * t2 * t2 - t1 * t1 * t1)
     if q < 1e-12:
         return w, -3.0 * sigma * inv_h * inv_h

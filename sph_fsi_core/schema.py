@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+MAX_ART_EXPONENT = 12   # solid.artificial_stress_exponent's upper bound (solid_gray2001.py loops up to it)
+
 
 class SceneError(ValueError):
     """Bad scene input: the message names the key, the bad value and what is allowed."""
@@ -164,7 +166,7 @@ SOLID = [
        "instability (0.15; Gray: 0.3); the quadratic fit needs none, and with it a nearly incompressible body grows "
        "a spurious mode (docs/method.md)", low=0.0, high=1.0, rebuild=False),
     _p("solid.artificial_stress_exponent", 4, "1", "Gray's artificial stress exponent n in f_ab^n", kind="int",
-       low=1, high=12, rebuild=False),
+       low=1, high=MAX_ART_EXPONENT, rebuild=False),
 ]
 
 # The incompressible fluid by iterative density correction (Okaji 2002; Satake et al. sec. 2.2).

@@ -49,8 +49,10 @@ def _sym(i, j):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _basis_dot(v, ux, uy, uz):
-    """v . p(u) for the quadratic basis p of solid_mls.py."""
+def basis_dot(v, ux, uy, uz):
+    """v . p(u) for the quadratic basis p of solid_mls.py. With v = A_a[i] (gradient_force_rows) and the pair's
+    s_ab = V_b W_ab / h^2, s_ab basis_dot(A_a[i], u_ab) is Phi_ab,i of the module doc; solid_mls.momentum_rate_mls
+    adds the pair's F_ab = Phi_ab - Phi_ba, where u and W_ab are at hand."""
     return ((v[0] * ux + v[1] * uy + v[2] * uz)
             + 0.5 * (v[3] * ux * ux + v[4] * uy * uy + v[5] * uz * uz)
             + (v[6] * ux * uy + v[7] * ux * uz + v[8] * uy * uz))
@@ -59,7 +61,7 @@ def _basis_dot(v, ux, uy, uz):
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def gradient_force_rows(mass, rho, stress_gradient, cell_moment, rows, force_rows):
     """force_rows[a, i] = A_a[i] = sum_jk V_a m T_a[k]_ij R_a^(3 + q(j, k)), nine numbers per i (N x 3 x 9), so
-    that the pair term of the stress gradient's force is Phi_ab,i = s_ab A_a[i] . p(u) (gradient_pair_force)."""
+    that the pair term of the stress gradient's force is Phi_ab,i = s_ab A_a[i] . p(u) (basis_dot)."""
     for a in prange(mass.shape[0]):
         scale = mass[a] / rho[a] * cell_moment
         for i in range(3):
@@ -71,17 +73,6 @@ def gradient_force_rows(mass, rho, stress_gradient, cell_moment, rows, force_row
                     q = 3 + _sym(j, k)
                     for r in range(9):
                         force_rows[a, i, r] += t * rows[a, q, r]
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def gradient_pair_force(force_rows, a, b, ux, uy, uz, s_ab, s_ba):
-    """The stress gradient's force F_ab = Phi_ab - Phi_ba of the pair (+F on a, -F on b; module doc), with
-    u = (x_b - x_a) / h and s_ab = V_b W_ab / h^2: two 27-term sums, no stored weights. Called from the solid's
-    momentum pass (solid_mls.momentum_rate_mls), which has u and W_ab at hand."""
-    fx = s_ab * _basis_dot(force_rows[a, 0], ux, uy, uz) - s_ba * _basis_dot(force_rows[b, 0], -ux, -uy, -uz)
-    fy = s_ab * _basis_dot(force_rows[a, 1], ux, uy, uz) - s_ba * _basis_dot(force_rows[b, 1], -ux, -uy, -uz)
-    fz = s_ab * _basis_dot(force_rows[a, 2], ux, uy, uz) - s_ba * _basis_dot(force_rows[b, 2], -ux, -uy, -uz)
-    return fx, fy, fz
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")

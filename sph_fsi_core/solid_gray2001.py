@@ -17,6 +17,8 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_wf
 from .neighbours import chunk_first_target, inverse_periods, minimum_image
+from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, minimum_image_block, pad_block, padded
+from .schema import MAX_ART_EXPONENT
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
 
@@ -316,14 +318,16 @@ def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rh
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def viscous_and_artificial_stress_terms(vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed,
-                                        alpha, beta, art_exponent, inv_w_dp):
-    """The pair's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ); r = r_a - r_b."""
+def viscous_and_artificial_stress_terms(vr, rho_a, rho_b, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
+                                        inv_w_dp, rxx, ryy, rzz, rxy, rxz, ryz):
+    """The pair's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ).
+
+    vr = (v_a - v_b) . (r_a - r_b); R_ab = R_a + R_b given as its six components (used when art_exponent > 0).
+    """
     txy = txz = tyz = 0.0
-    vr = (vel[a, 0] - vel[b, 0]) * rx + (vel[a, 1] - vel[b, 1]) * ry + (vel[a, 2] - vel[b, 2]) * rz
     # branch-free (receding pairs give mu = 0): approaching and receding pairs alternate unpredictably
-    mu = h * min(vr, 0.0) / (r2 + eta2)
-    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho[a] + rho[b]))
+    mu = h * (vr if vr < 0.0 else 0.0) / (r2 + eta2)   # min(vr, 0) as a select (kernels.positive_part)
+    pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho_a + rho_b))
     txx = tyy = tzz = -pi_ab
     if art_exponent > 0:
         ratio = wab * inv_w_dp
@@ -331,28 +335,148 @@ def viscous_and_artificial_stress_terms(vel, rho, art_stress, a, b, rx, ry, rz, 
             fn = ratio * ratio
             fn *= fn
         else:
+            # ratio^n as n multiplications in a loop of fixed length (the schema allows n <= 12), so that a pass
+            # computing many pairs at once can still run them in SIMD lanes
             fn = 1.0
-            for _ in range(art_exponent):
-                fn *= ratio
-        txx += (art_stress[a, XX] + art_stress[b, XX]) * fn
-        tyy += (art_stress[a, YY] + art_stress[b, YY]) * fn
-        tzz += (art_stress[a, ZZ] + art_stress[b, ZZ]) * fn
-        txy += (art_stress[a, XY] + art_stress[b, XY]) * fn
-        txz += (art_stress[a, XZ] + art_stress[b, XZ]) * fn
-        tyz += (art_stress[a, YZ] + art_stress[b, YZ]) * fn
+            for k in range(MAX_ART_EXPONENT):
+                if k < art_exponent:
+                    fn *= ratio
+        txx += rxx * fn
+        tyy += ryy * fn
+        tzz += rzz * fn
+        txy += rxy * fn
+        txz += rxz * fn
+        tyz += ryz * fn
     return txx, tyy, tzz, txy, txz, tyz
+
+
+# block columns of the momentum pass (pair_blocks.py): gathered per pair, then the pair's results
+(_RX, _RY, _RZ, _DVX, _DVY, _DVZ, _RHO_B, _S_B, _R_B, _K_B, _GX, _GY, _GZ, _W, _F) = (
+    0, 1, 2, 3, 4, 5, 6, 7, 13, 19, 28, 29, 30, 31, 32)
+MOMENTUM_BLOCK_COLUMNS = 33   # _S_B, _R_B: six columns each (b's sigma / rho^2, R_b); _K_B: nine (K_b^-1)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
+                   correct_gradient):
+    """Pair j of a block in _momentum_pair_block; sa, ra, ka: particle a's sigma / rho^2, R_a and K_a^-1 as tuples
+    (values kept in registers)."""
+    sa0, sa1, sa2, sa3, sa4, sa5 = sa
+    ra0, ra1, ra2, ra3, ra4, ra5 = ra
+    k00, k01, k02, k10, k11, k12, k20, k21, k22 = ka
+    rx = block[_RX * STRIDE + j]
+    ry = block[_RY * STRIDE + j]
+    rz = block[_RZ * STRIDE + j]
+    r2 = rx * rx + ry * ry + rz * rz
+    wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+    block[_W * STRIDE + j] = wab
+    block[_F * STRIDE + j] = fab
+    sb0 = block[(_S_B + XX) * STRIDE + j]
+    sb1 = block[(_S_B + YY) * STRIDE + j]
+    sb2 = block[(_S_B + ZZ) * STRIDE + j]
+    sb3 = block[(_S_B + XY) * STRIDE + j]
+    sb4 = block[(_S_B + XZ) * STRIDE + j]
+    sb5 = block[(_S_B + YZ) * STRIDE + j]
+    if correct_gradient:
+        # K_a^-1 g and K_b^-1 g for the two particles' own stresses
+        gx = fab * rx
+        gy = fab * ry
+        gz = fab * rz
+        gax = k00 * gx + k01 * gy + k02 * gz
+        gay = k10 * gx + k11 * gy + k12 * gz
+        gaz = k20 * gx + k21 * gy + k22 * gz
+        gbx = (block[_K_B * STRIDE + j] * gx + block[(_K_B + 1) * STRIDE + j] * gy
+               + block[(_K_B + 2) * STRIDE + j] * gz)
+        gby = (block[(_K_B + 3) * STRIDE + j] * gx + block[(_K_B + 4) * STRIDE + j] * gy
+               + block[(_K_B + 5) * STRIDE + j] * gz)
+        gbz = (block[(_K_B + 6) * STRIDE + j] * gx + block[(_K_B + 7) * STRIDE + j] * gy
+               + block[(_K_B + 8) * STRIDE + j] * gz)
+        mx = 0.5 * (gax + gbx)
+        my = 0.5 * (gay + gby)
+        mz = 0.5 * (gaz + gbz)
+        fx = (sa0 * gax + sa3 * gay + sa4 * gaz) + (sb0 * gbx + sb3 * gby + sb4 * gbz)
+        fy = (sa3 * gax + sa1 * gay + sa5 * gaz) + (sb3 * gbx + sb1 * gby + sb5 * gbz)
+        fz = (sa4 * gax + sa5 * gay + sa2 * gaz) + (sb4 * gbx + sb5 * gby + sb2 * gbz)
+        txx = tyy = tzz = txy = txz = tyz = 0.0
+    else:
+        mx = fab * rx
+        my = fab * ry
+        mz = fab * rz
+        fx = fy = fz = 0.0
+        txx = sa0 + sb0
+        tyy = sa1 + sb1
+        tzz = sa2 + sb2
+        txy = sa3 + sb3
+        txz = sa4 + sb4
+        tyz = sa5 + sb5
+    vr = (block[_DVX * STRIDE + j] * rx + block[_DVY * STRIDE + j] * ry + block[_DVZ * STRIDE + j] * rz)
+    pxx, pyy, pzz, pxy, pxz, pyz = viscous_and_artificial_stress_terms(
+        vr, rho_a, block[_RHO_B * STRIDE + j], r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
+        ra0 + block[(_R_B + XX) * STRIDE + j], ra1 + block[(_R_B + YY) * STRIDE + j],
+        ra2 + block[(_R_B + ZZ) * STRIDE + j], ra3 + block[(_R_B + XY) * STRIDE + j],
+        ra4 + block[(_R_B + XZ) * STRIDE + j], ra5 + block[(_R_B + YZ) * STRIDE + j])
+    txx += pxx
+    tyy += pyy
+    tzz += pzz
+    txy += pxy
+    txz += pxz
+    tyz += pyz
+    block[_GX * STRIDE + j] = fx + txx * mx + txy * my + txz * mz
+    block[_GY * STRIDE + j] = fy + txy * mx + tyy * my + tyz * mz
+    block[_GZ * STRIDE + j] = fz + txz * mx + tyz * my + tzz * mz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _momentum_pair_block(block, m, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta, art_exponent,
+                         inv_w_dp, correct_gradient):
+    """Eq. (5)'s pair term for the m pairs of a block (momentum_rate): the bracket T_ab dotted with the gradient,
+    into _GX.._GZ (particle a gets m_b times it, b minus m_a times it), and W_ab, F_ab into _W, _F.
+
+    sa, ra: particle a's sigma / rho^2 and R_a; ka: its K^-1 (used with correct_gradient). One loop per setting
+    (no artificial stress, Gray's n = 4, another n; with or without the corrected gradient), each with its options
+    as constants: a branch inside a SIMD loop runs both sides on every pair."""
+    sa = (sa[XX], sa[YY], sa[ZZ], sa[XY], sa[XZ], sa[YZ])
+    ra = (ra[XX], ra[YY], ra[ZZ], ra[XY], ra[XZ], ra[YZ])
+    ka = (ka[0, 0], ka[0, 1], ka[0, 2], ka[1, 0], ka[1, 1], ka[1, 2], ka[2, 0], ka[2, 1], ka[2, 2])
+    if correct_gradient:
+        if art_exponent == 0:
+            for j in range(m):
+                _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta, 0,
+                               inv_w_dp, True)
+        elif art_exponent == 4:
+            for j in range(m):
+                _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta, 4,
+                               inv_w_dp, True)
+        else:
+            for j in range(m):
+                _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta,
+                               art_exponent, inv_w_dp, True)
+    else:
+        if art_exponent == 0:
+            for j in range(m):
+                _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta, 0,
+                               inv_w_dp, False)
+        elif art_exponent == 4:
+            for j in range(m):
+                _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta, 4,
+                               inv_w_dp, False)
+        else:
+            for j in range(m):
+                _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_speed, alpha, beta,
+                               art_exponent, inv_w_dp, False)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                  alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv):
+                  alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv, blocks):
     """Eq. (5): dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I + R_ab f_ab^n) . grad_a W_ab + g.
 
     f_ab = W_ab / W(dp); R_ab = R_a + R_b; n = art_exponent, an integer (0: no artificial stress).
     Pi_ab: Monaghan's viscosity (>= 0, see module doc for the sign). The bracket T_ab is symmetric in a and b
     and grad_b W_ba = -grad_a W_ab, so over the half list each pair adds m_b T.g to a and -m_a T.g to b:
     momentum is conserved to round-off. The same pass evaluates the kernel at the current positions and leaves
-    it in the pair cache (w, f) for the next step's velocity passes.
+    it in the pair cache (w, f) for the next step's velocity passes. The pair terms are computed in blocks
+    (pair_blocks.py; `blocks`: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns).
 
     correct_gradient: each particle's stress acts through its kernel-corrected gradient K^-1 grad W (Bonet & Lok
     1999), the counterpart of the corrected velocity gradient, so that stress power and strain rate stay paired;
@@ -361,6 +485,7 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
     (and with the mirrored clamp they would move the ghosts' images).
     """
     inv_period = inverse_periods(period)
+    periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
@@ -368,70 +493,68 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
+        block = blocks[c]
         out[:, 0:3] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
+            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+            vxa, vya, vza = vel[a, 0], vel[a, 1], vel[a, 2]
+            movable_a = movable[a]
             ax = ay = az = 0.0
-            for s in range(start[a], start[a + 1]):
-                b = index[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
-                r2 = rx * rx + ry * ry + rz * rz
-                r = math.sqrt(r2)
-                wab, fab = cubic_spline_wf(r, inv_h, sigma)
-                w[s] = wab
-                f[s] = fab
-                if not (movable[a] or movable[b]):
-                    continue
+            for lo in range(start[a], start[a + 1], BLOCK):
+                m = min(BLOCK, start[a + 1] - lo)
+                for j in range(m):
+                    b = index[lo + j]
+                    block[_RX * STRIDE + j] = xa - pos[b, 0]   # minimum image below, in SIMD lanes
+                    block[_RY * STRIDE + j] = ya - pos[b, 1]
+                    block[_RZ * STRIDE + j] = za - pos[b, 2]
+                    block[_DVX * STRIDE + j] = vxa - vel[b, 0]
+                    block[_DVY * STRIDE + j] = vya - vel[b, 1]
+                    block[_DVZ * STRIDE + j] = vza - vel[b, 2]
+                    block[_RHO_B * STRIDE + j] = rho[b]
+                    block[(_S_B + XX) * STRIDE + j] = sigma_over_rho2[b, XX]
+                    block[(_S_B + YY) * STRIDE + j] = sigma_over_rho2[b, YY]
+                    block[(_S_B + ZZ) * STRIDE + j] = sigma_over_rho2[b, ZZ]
+                    block[(_S_B + XY) * STRIDE + j] = sigma_over_rho2[b, XY]
+                    block[(_S_B + XZ) * STRIDE + j] = sigma_over_rho2[b, XZ]
+                    block[(_S_B + YZ) * STRIDE + j] = sigma_over_rho2[b, YZ]
+                if art_exponent > 0:
+                    for j in range(m):
+                        b = index[lo + j]
+                        for k in range(6):
+                            block[(_R_B + k) * STRIDE + j] = art_stress[b, k]
                 if correct_gradient:
-                    # K_a^-1 g and K_b^-1 g for the two particles' own stresses
-                    gx = fab * rx
-                    gy = fab * ry
-                    gz = fab * rz
-                    gax = kinv[a, 0, 0] * gx + kinv[a, 0, 1] * gy + kinv[a, 0, 2] * gz
-                    gay = kinv[a, 1, 0] * gx + kinv[a, 1, 1] * gy + kinv[a, 1, 2] * gz
-                    gaz = kinv[a, 2, 0] * gx + kinv[a, 2, 1] * gy + kinv[a, 2, 2] * gz
-                    gbx = kinv[b, 0, 0] * gx + kinv[b, 0, 1] * gy + kinv[b, 0, 2] * gz
-                    gby = kinv[b, 1, 0] * gx + kinv[b, 1, 1] * gy + kinv[b, 1, 2] * gz
-                    gbz = kinv[b, 2, 0] * gx + kinv[b, 2, 1] * gy + kinv[b, 2, 2] * gz
-                    mx = 0.5 * (gax + gbx)
-                    my = 0.5 * (gay + gby)
-                    mz = 0.5 * (gaz + gbz)
-                    sa = sigma_over_rho2[a]
-                    sb = sigma_over_rho2[b]
-                    fx = (sa[XX] * gax + sa[XY] * gay + sa[XZ] * gaz) + (sb[XX] * gbx + sb[XY] * gby + sb[XZ] * gbz)
-                    fy = (sa[XY] * gax + sa[YY] * gay + sa[YZ] * gaz) + (sb[XY] * gbx + sb[YY] * gby + sb[YZ] * gbz)
-                    fz = (sa[XZ] * gax + sa[YZ] * gay + sa[ZZ] * gaz) + (sb[XZ] * gbx + sb[YZ] * gby + sb[ZZ] * gbz)
-                    txx = tyy = tzz = txy = txz = tyz = 0.0
-                else:
-                    mx = fab * rx
-                    my = fab * ry
-                    mz = fab * rz
-                    fx = fy = fz = 0.0
-                    txx = sigma_over_rho2[a, XX] + sigma_over_rho2[b, XX]
-                    tyy = sigma_over_rho2[a, YY] + sigma_over_rho2[b, YY]
-                    tzz = sigma_over_rho2[a, ZZ] + sigma_over_rho2[b, ZZ]
-                    txy = sigma_over_rho2[a, XY] + sigma_over_rho2[b, XY]
-                    txz = sigma_over_rho2[a, XZ] + sigma_over_rho2[b, XZ]
-                    tyz = sigma_over_rho2[a, YZ] + sigma_over_rho2[b, YZ]
-                pxx, pyy, pzz, pxy, pxz, pyz = viscous_and_artificial_stress_terms(
-                    vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
-                    inv_w_dp)
-                txx += pxx
-                tyy += pyy
-                tzz += pzz
-                txy += pxy
-                txz += pxz
-                tyz += pyz
-                gx = fx + txx * mx + txy * my + txz * mz
-                gy = fy + txy * mx + tyy * my + tyz * mz
-                gz = fz + txz * mx + tyz * my + tzz * mz
-                ax += mass[b] * gx
-                ay += mass[b] * gy
-                az += mass[b] * gz
-                out[b, 0] -= mass[a] * gx
-                out[b, 1] -= mass[a] * gy
-                out[b, 2] -= mass[a] * gz
+                    for j in range(m):
+                        b = index[lo + j]
+                        for k in range(9):
+                            block[(_K_B + k) * STRIDE + j] = kinv[b, k // 3, k % 3]
+                pad_block(block, m, _RX, FAR_IN_H * h, _RY, _S_B + 6, 0.0)
+                if art_exponent > 0:
+                    pad_block(block, m, _R_B, 0.0, _R_B + 1, _R_B + 6, 0.0)
+                if correct_gradient:
+                    pad_block(block, m, _K_B, 0.0, _K_B + 1, _K_B + 9, 0.0)
+                for j in range(m, padded(m)):
+                    block[_RHO_B * STRIDE + j] = 1.0
+                if periodic:
+                    minimum_image_block(block, _RX, m, period, inv_period)
+                _momentum_pair_block(block, padded(m), sigma_over_rho2[a], art_stress[a], kinv[a], rho[a], inv_h,
+                                     sigma, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
+                                     correct_gradient)
+                for j in range(m):
+                    s = lo + j
+                    w[s] = block[_W * STRIDE + j]
+                    f[s] = block[_F * STRIDE + j]
+                    b = index[s]
+                    if not (movable_a or movable[b]):
+                        continue
+                    gx = block[_GX * STRIDE + j]
+                    gy = block[_GY * STRIDE + j]
+                    gz = block[_GZ * STRIDE + j]
+                    ax += mass[b] * gx
+                    ay += mass[b] * gy
+                    az += mass[b] * gz
+                    out[b, 0] -= mass[a] * gx
+                    out[b, 1] -= mass[a] * gy
+                    out[b, 2] -= mass[a] * gz
             out[a, 0] += ax
             out[a, 1] += ay
             out[a, 2] += az

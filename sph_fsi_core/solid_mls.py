@@ -30,7 +30,8 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import chunk_first_target, inverse_periods, minimum_image
-from .solid_gradient_integration import gradient_pair_force, quadratic_monomials
+from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, minimum_image_block, pad_block, padded
+from .solid_gradient_integration import basis_dot, quadratic_monomials
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
@@ -170,15 +171,15 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
 def _pair_weight_vector(rows_a, lx, ly, lz, qxx, qyy, qzz, qxy, qxz, qyz, scale):
     """scale * R_a p for p = (l, q) given as scalars, returned as three scalars (kept in registers)."""
     # summed as a tree: three short dependency chains instead of one of nine additions
-    g0 = ((rows_a[0, 0] * lx + rows_a[0, 1] * ly + rows_a[0, 2] * lz)
-          + (rows_a[0, 3] * qxx + rows_a[0, 4] * qyy + rows_a[0, 5] * qzz)
-          + (rows_a[0, 6] * qxy + rows_a[0, 7] * qxz + rows_a[0, 8] * qyz))
-    g1 = ((rows_a[1, 0] * lx + rows_a[1, 1] * ly + rows_a[1, 2] * lz)
-          + (rows_a[1, 3] * qxx + rows_a[1, 4] * qyy + rows_a[1, 5] * qzz)
-          + (rows_a[1, 6] * qxy + rows_a[1, 7] * qxz + rows_a[1, 8] * qyz))
-    g2 = ((rows_a[2, 0] * lx + rows_a[2, 1] * ly + rows_a[2, 2] * lz)
-          + (rows_a[2, 3] * qxx + rows_a[2, 4] * qyy + rows_a[2, 5] * qzz)
-          + (rows_a[2, 6] * qxy + rows_a[2, 7] * qxz + rows_a[2, 8] * qyz))
+    g0 = ((rows_a[0][0] * lx + rows_a[0][1] * ly + rows_a[0][2] * lz)
+          + (rows_a[0][3] * qxx + rows_a[0][4] * qyy + rows_a[0][5] * qzz)
+          + (rows_a[0][6] * qxy + rows_a[0][7] * qxz + rows_a[0][8] * qyz))
+    g1 = ((rows_a[1][0] * lx + rows_a[1][1] * ly + rows_a[1][2] * lz)
+          + (rows_a[1][3] * qxx + rows_a[1][4] * qyy + rows_a[1][5] * qzz)
+          + (rows_a[1][6] * qxy + rows_a[1][7] * qxz + rows_a[1][8] * qyz))
+    g2 = ((rows_a[2][0] * lx + rows_a[2][1] * ly + rows_a[2][2] * lz)
+          + (rows_a[2][3] * qxx + rows_a[2][4] * qyy + rows_a[2][5] * qzz)
+          + (rows_a[2][6] * qxy + rows_a[2][7] * qxz + rows_a[2][8] * qyz))
     return scale * g0, scale * g1, scale * g2
 
 
@@ -286,23 +287,133 @@ def velocity_divergence_rate(rho, grad_v, drho):
         drho[a] = -rho[a] * (grad_v[a, 0, 0] + grad_v[a, 1, 1] + grad_v[a, 2, 2])
 
 
+# block columns of the momentum pass (pair_blocks.py): gathered per pair, then the pair's results
+(_RX, _RY, _RZ, _DVX, _DVY, _DVZ, _RHO_B, _MASS_B, _R_B, _R2, _W, _F, _G_AB, _F_A, _F_AV, _F_GRAD_A) = (
+    0, 1, 2, 3, 4, 5, 6, 7, 8, 14, 15, 16, 17, 20, 23, 26)
+MOMENTUM_BLOCK_COLUMNS = 29   # _R_B: six columns (R_b); _G_AB, _F_A, _F_AV, _F_GRAD_A: three each
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _rows_tuple(r):
+    """Rows 0..2 of a particle's fit (3 x 9) as nested tuples: values the compiler keeps in registers."""
+    return ((r[0, 0], r[0, 1], r[0, 2], r[0, 3], r[0, 4], r[0, 5], r[0, 6], r[0, 7], r[0, 8]),
+            (r[1, 0], r[1, 1], r[1, 2], r[1, 3], r[1, 4], r[1, 5], r[1, 6], r[1, 7], r[1, 8]),
+            (r[2, 0], r[2, 1], r[2, 2], r[2, 3], r[2, 4], r[2, 5], r[2, 6], r[2, 7], r[2, 8]))
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2, sound_speed, alpha,
+              beta, art_exponent, inv_w_dp, gradient_integration):
+    """Pair j of a block in _mls_pair_block; rows_a, sa, ra: particle a's fit rows, sigma / rho^2 and R_a as
+    tuples (values kept in registers)."""
+    sa0, sa1, sa2, sa3, sa4, sa5 = sa
+    ra0, ra1, ra2, ra3, ra4, ra5 = ra
+    rx = block[_RX * STRIDE + j]
+    ry = block[_RY * STRIDE + j]
+    rz = block[_RZ * STRIDE + j]
+    r2 = rx * rx + ry * ry + rz * rz
+    block[_R2 * STRIDE + j] = r2
+    wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, sigma_k)
+    block[_W * STRIDE + j] = wab
+    block[_F * STRIDE + j] = fab
+    ux = -rx * inv_h
+    uy = -ry * inv_h
+    uz = -rz * inv_h
+    qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
+    v_b = block[_MASS_B * STRIDE + j] / block[_RHO_B * STRIDE + j]
+    gab0, gab1, gab2 = _pair_weight_vector(rows_a, ux, uy, uz, qxx, qyy, qzz, qxy, qxz, qyz, v_b * wab * inv_h)
+    block[_G_AB * STRIDE + j] = gab0
+    block[(_G_AB + 1) * STRIDE + j] = gab1
+    block[(_G_AB + 2) * STRIDE + j] = gab2
+    # V sigma = m rho (sigma / rho^2)
+    block[_F_A * STRIDE + j] = ka * (sa0 * gab0 + sa3 * gab1 + sa4 * gab2)
+    block[(_F_A + 1) * STRIDE + j] = ka * (sa3 * gab0 + sa1 * gab1 + sa5 * gab2)
+    block[(_F_A + 2) * STRIDE + j] = ka * (sa4 * gab0 + sa5 * gab1 + sa2 * gab2)
+    vr = (block[_DVX * STRIDE + j] * rx + block[_DVY * STRIDE + j] * ry + block[_DVZ * STRIDE + j] * rz)
+    txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(
+        vr, rho_a, block[_RHO_B * STRIDE + j], r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
+        ra0 + block[(_R_B + XX) * STRIDE + j], ra1 + block[(_R_B + YY) * STRIDE + j],
+        ra2 + block[(_R_B + ZZ) * STRIDE + j], ra3 + block[(_R_B + XY) * STRIDE + j],
+        ra4 + block[(_R_B + XZ) * STRIDE + j], ra5 + block[(_R_B + YZ) * STRIDE + j])
+    mm = mass_a * block[_MASS_B * STRIDE + j]
+    gx = fab * rx
+    gy = fab * ry
+    gz = fab * rz
+    block[_F_AV * STRIDE + j] = mm * (txx * gx + txy * gy + txz * gz)
+    block[(_F_AV + 1) * STRIDE + j] = mm * (txy * gx + tyy * gy + tyz * gz)
+    block[(_F_AV + 2) * STRIDE + j] = mm * (txz * gx + tyz * gy + tzz * gz)
+    if gradient_integration:
+        s_ab = v_b * wab * inv_h * inv_h
+        block[_F_GRAD_A * STRIDE + j] = s_ab * basis_dot(force_rows_a[0], ux, uy, uz)
+        block[(_F_GRAD_A + 1) * STRIDE + j] = s_ab * basis_dot(force_rows_a[1], ux, uy, uz)
+        block[(_F_GRAD_A + 2) * STRIDE + j] = s_ab * basis_dot(force_rows_a[2], ux, uy, uz)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _mls_pair_block(block, m, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2, sound_speed,
+                    alpha, beta, art_exponent, inv_w_dp, gradient_integration):
+    """What particle a contributes to the pair terms of momentum_rate_mls, for the m pairs of a block: r^2, W_ab,
+    F_ab, G_ab = (V_b W_ab / h) R_a p(u), a's stress part V_a sigma_a G_ab (_F_A), the viscosity and artificial
+    stress part (_F_AV) and a's half of the stress gradient's force (_F_GRAD_A). b's parts need b's fit rows and
+    are added per pair in the scatter loop.
+
+    One loop per setting (no artificial stress, Gray's n = 4, another n; with or without the gradient integration),
+    each with its options as constants: a branch inside a SIMD loop runs both sides on every pair."""
+    sa = (sa[XX], sa[YY], sa[ZZ], sa[XY], sa[XZ], sa[YZ])
+    ra = (ra[XX], ra[YY], ra[ZZ], ra[XY], ra[XZ], ra[YZ])
+    rows_a = _rows_tuple(rows_a)
+    if gradient_integration:
+        if art_exponent == 0:
+            for j in range(m):
+                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                          sound_speed, alpha, beta, 0, inv_w_dp, True)
+        elif art_exponent == 4:
+            for j in range(m):
+                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                          sound_speed, alpha, beta, 4, inv_w_dp, True)
+        else:
+            for j in range(m):
+                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                          sound_speed, alpha, beta, art_exponent, inv_w_dp, True)
+    else:
+        if art_exponent == 0:
+            for j in range(m):
+                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                          sound_speed, alpha, beta, 0, inv_w_dp, False)
+        elif art_exponent == 4:
+            for j in range(m):
+                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                          sound_speed, alpha, beta, 4, inv_w_dp, False)
+        else:
+            for j in range(m):
+                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                          sound_speed, alpha, beta, art_exponent, inv_w_dp, False)
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf, force_rows):
+                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf, force_rows,
+                      blocks):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
     viscosity and artificial stress keep Gray's pair form m_a m_b (-Pi_ab I + R_ab f_ab^n) . grad_a W_ab.
     sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair caches (w, f and
     the weights G_ab, G_ba) for the next step's gradient pass. Pairs in the list's skin but beyond the kernel's
-    support get zeros in the caches and no arithmetic; so do pairs of two clamp particles (`movable` False), whose
+    support get zeros in the caches and no force; so do pairs of two clamp particles (`movable` False), whose
     forces act on no moving particle (with the mirrored clamp they would move the ghosts' images: the ghosts'
     relative motion is not the material's). Forces are summed per pair and divided by the mass once per particle.
     With the strain-gradient nodal integration (`force_rows` (N, 3, 9) from gradient_force_rows; empty when it is
-    off) the pair also carries the stress gradient's force (solid_gradient_integration.gradient_pair_force), here
-    where u and W_ab are at hand rather than in a pass of its own.
+    off) the pair also carries the stress gradient's force (Phi_ab - Phi_ba of solid_gradient_integration.py),
+    here where u and W_ab are at hand rather than in a pass of its own.
+
+    In blocks (pair_blocks.py; `blocks`: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns): what needs only
+    particle a's rows and stress runs in SIMD lanes (_mls_pair_block); b's weights G_ba, its stress part and its
+    half of the gradient force, which need b's 27 fit numbers (27 more with the gradient integration), per pair in
+    the scatter loop, where they are read in place.
     """
     inv_period = inverse_periods(period)
+    periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
     support2 = 4.0 * h * h
@@ -312,68 +423,91 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
+        block = blocks[c]
         out[:, 0:3] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
+            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+            vxa, vya, vza = vel[a, 0], vel[a, 1], vel[a, 2]
             va = mass[a] / rho[a]
             ka = mass[a] * rho[a]
-            sa = sigma_over_rho2[a]
+            movable_a = movable[a]
             fax = fay = faz = 0.0
-            for s in range(start[a], start[a + 1]):
-                b = index[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
-                r2 = rx * rx + ry * ry + rz * rz
-                if r2 >= support2:   # in the list's skin, outside the kernel: the pair is idle until it closes in
-                    w[s] = 0.0
-                    f[s] = 0.0
-                    for k in range(6):
-                        weights[s, k] = 0.0
-                    continue
-                wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, sigma_k)
-                w[s] = wab
-                f[s] = fab
-                ux = -rx * inv_h
-                uy = -ry * inv_h
-                uz = -rz * inv_h
-                gab0, gab1, gab2, gba0, gba1, gba2 = _store_pair_weights(
-                    rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
-                if not (movable[a] or movable[b]):
-                    continue
-                # V sigma = m rho (sigma / rho^2)
-                kb = mass[b] * rho[b]
-                fx = (ka * (sa[XX] * gab0 + sa[XY] * gab1 + sa[XZ] * gab2)
-                      - kb * (sigma_over_rho2[b, XX] * gba0 + sigma_over_rho2[b, XY] * gba1
-                              + sigma_over_rho2[b, XZ] * gba2))
-                fy = (ka * (sa[XY] * gab0 + sa[YY] * gab1 + sa[YZ] * gab2)
-                      - kb * (sigma_over_rho2[b, XY] * gba0 + sigma_over_rho2[b, YY] * gba1
-                              + sigma_over_rho2[b, YZ] * gba2))
-                fz = (ka * (sa[XZ] * gab0 + sa[YZ] * gab1 + sa[ZZ] * gab2)
-                      - kb * (sigma_over_rho2[b, XZ] * gba0 + sigma_over_rho2[b, YZ] * gba1
-                              + sigma_over_rho2[b, ZZ] * gba2))
-                txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(
-                    vel, rho, art_stress, a, b, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
-                    inv_w_dp)
-                mm = mass[a] * mass[b]
-                gx = fab * rx
-                gy = fab * ry
-                gz = fab * rz
-                fx += mm * (txx * gx + txy * gy + txz * gz)
-                fy += mm * (txy * gx + tyy * gy + tyz * gz)
-                fz += mm * (txz * gx + tyz * gy + tzz * gz)
-                if gradient_integration:
-                    hx, hy, hz = gradient_pair_force(force_rows, a, b, ux, uy, uz,
-                                                     mass[b] / rho[b] * wab * inv_h * inv_h, va * wab * inv_h * inv_h)
-                    fx += hx
-                    fy += hy
-                    fz += hz
-                # forces here, accelerations once per particle below (one division instead of six per pair)
-                fax += fx
-                fay += fy
-                faz += fz
-                out[b, 0] -= fx
-                out[b, 1] -= fy
-                out[b, 2] -= fz
+            for lo in range(start[a], start[a + 1], BLOCK):
+                m = min(BLOCK, start[a + 1] - lo)
+                for j in range(m):
+                    b = index[lo + j]
+                    block[_RX * STRIDE + j] = xa - pos[b, 0]   # minimum image below, in SIMD lanes
+                    block[_RY * STRIDE + j] = ya - pos[b, 1]
+                    block[_RZ * STRIDE + j] = za - pos[b, 2]
+                    block[_DVX * STRIDE + j] = vxa - vel[b, 0]
+                    block[_DVY * STRIDE + j] = vya - vel[b, 1]
+                    block[_DVZ * STRIDE + j] = vza - vel[b, 2]
+                    block[_RHO_B * STRIDE + j] = rho[b]
+                    block[_MASS_B * STRIDE + j] = mass[b]
+                pad_block(block, m, _RX, FAR_IN_H * h, _RY, _MASS_B + 1, 0.0)
+                if art_exponent > 0:
+                    for j in range(m):
+                        b = index[lo + j]
+                        for k in range(6):
+                            block[(_R_B + k) * STRIDE + j] = art_stress[b, k]
+                    pad_block(block, m, _R_B, 0.0, _R_B + 1, _R_B + 6, 0.0)
+                for j in range(m, padded(m)):
+                    block[_RHO_B * STRIDE + j] = 1.0
+                if periodic:
+                    minimum_image_block(block, _RX, m, period, inv_period)
+                _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a], force_rows[a] if
+                                gradient_integration else rows[a], mass[a], rho[a], ka, inv_h, sigma_k, h, eta2,
+                                sound_speed, alpha, beta, art_exponent, inv_w_dp, gradient_integration)
+                for j in range(m):
+                    s = lo + j
+                    if block[_R2 * STRIDE + j] >= support2:   # in the list's skin, outside the kernel: idle
+                        w[s] = 0.0
+                        f[s] = 0.0
+                        for k in range(6):
+                            weights[s, k] = 0.0
+                        continue
+                    b = index[s]
+                    wab = block[_W * STRIDE + j]
+                    w[s] = wab
+                    f[s] = block[_F * STRIDE + j]
+                    ux = -block[_RX * STRIDE + j] * inv_h
+                    uy = -block[_RY * STRIDE + j] * inv_h
+                    uz = -block[_RZ * STRIDE + j] * inv_h
+                    qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
+                    gba0, gba1, gba2 = _pair_weight_vector(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz,
+                                                           va * wab * inv_h)
+                    weights[s, 0] = block[_G_AB * STRIDE + j]
+                    weights[s, 1] = block[(_G_AB + 1) * STRIDE + j]
+                    weights[s, 2] = block[(_G_AB + 2) * STRIDE + j]
+                    weights[s, 3] = gba0
+                    weights[s, 4] = gba1
+                    weights[s, 5] = gba2
+                    if not (movable_a or movable[b]):
+                        continue
+                    kb = mass[b] * rho[b]
+                    fx = (block[_F_A * STRIDE + j] - kb * (sigma_over_rho2[b, XX] * gba0 + sigma_over_rho2[b, XY] * gba1
+                                                          + sigma_over_rho2[b, XZ] * gba2))
+                    fy = (block[(_F_A + 1) * STRIDE + j] - kb * (sigma_over_rho2[b, XY] * gba0
+                                                                + sigma_over_rho2[b, YY] * gba1
+                                                                + sigma_over_rho2[b, YZ] * gba2))
+                    fz = (block[(_F_A + 2) * STRIDE + j] - kb * (sigma_over_rho2[b, XZ] * gba0
+                                                                + sigma_over_rho2[b, YZ] * gba1
+                                                                + sigma_over_rho2[b, ZZ] * gba2))
+                    fx += block[_F_AV * STRIDE + j]
+                    fy += block[(_F_AV + 1) * STRIDE + j]
+                    fz += block[(_F_AV + 2) * STRIDE + j]
+                    if gradient_integration:
+                        s_ba = va * wab * inv_h * inv_h
+                        fx += block[_F_GRAD_A * STRIDE + j] - s_ba * basis_dot(force_rows[b, 0], -ux, -uy, -uz)
+                        fy += block[(_F_GRAD_A + 1) * STRIDE + j] - s_ba * basis_dot(force_rows[b, 1], -ux, -uy, -uz)
+                        fz += block[(_F_GRAD_A + 2) * STRIDE + j] - s_ba * basis_dot(force_rows[b, 2], -ux, -uy, -uz)
+                    # forces here, accelerations once per particle below (one division instead of six per pair)
+                    fax += fx
+                    fay += fy
+                    faz += fz
+                    out[b, 0] -= fx
+                    out[b, 1] -= fy
+                    out[b, 2] -= fz
             out[a, 0] += fax
             out[a, 1] += fay
             out[a, 2] += faz

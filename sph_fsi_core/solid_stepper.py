@@ -32,9 +32,12 @@ from numba import njit
 
 from .kernels import cubic_spline_w
 from .neighbours import max_displacement
+from .pair_blocks import block_scratch
+from .solid_gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_BLOCK_COLUMNS
 from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
                              xsph_velocity_and_gradient)
 from .solid_gradient_integration import gradient_force_rows, stress_gradient_rate, velocity_hessian
+from .solid_mls import MOMENTUM_BLOCK_COLUMNS as MLS_BLOCK_COLUMNS
 from .solid_mls import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
 # solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
@@ -81,11 +84,13 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
 class SolidWork:
     """Scratch arrays of the solid passes, allocated once per build.
 
-    `buf` (chunks, N, 18): per-chunk accumulators of the half-list passes, one chunk per thread.
+    `buf` (chunks, N, 18): per-chunk accumulators of the half-list passes, one chunk per thread; `blocks`: their
+    pair blocks (pair_blocks.py).
     """
 
     def __init__(self, n, hessian_rows=False):
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 18))
+        self.blocks = block_scratch(self.buf.shape[0], max(GRAY_BLOCK_COLUMNS, MLS_BLOCK_COLUMNS))
         self.vhat = np.zeros((n, 3))
         self.grad_v = np.zeros((n, 3, 3))
         self.drho = np.zeros(n)
@@ -145,7 +150,7 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                        prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
-                       clamp_mirror, stress_gradient, force_rows):
+                       clamp_mirror, stress_gradient, force_rows, blocks):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
@@ -155,11 +160,11 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
             gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
         momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
                           prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
-                          mls_weights, buf, force_rows)
+                          mls_weights, buf, force_rows, blocks)
     else:
         momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
                       prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
-                      prm.gradient_order == 1, kinv)
+                      prm.gradient_order == 1, kinv, blocks)
     fold_clamp_forces(acc, mass, body, clamp_mirror)
     has_ext = ext_acc.shape[0] == acc.shape[0]
     for a in range(acc.shape[0]):
@@ -187,7 +192,7 @@ def _max_norm(v):
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
                    w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
-                   force_rows, hessian_moments, turn, fit_refresh):
+                   force_rows, hessian_moments, turn, fit_refresh, blocks):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -241,7 +246,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                     pos[a, k] -= dt * vhat[clamp_mirror[a], k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
                            prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
-                           clamp_mirror, stress_gradient, force_rows)
+                           clamp_mirror, stress_gradient, force_rows, blocks)
         for a in range(n):
             if movable[a]:
                 for k in range(3):

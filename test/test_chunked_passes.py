@@ -8,7 +8,9 @@ import pytest
 
 from sph_fsi_core.fluid_okaji import viscous_velocity
 from sph_fsi_core.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.solid_gray2001 import continuity_rate, momentum_rate, xsph_velocity_and_gradient
+from sph_fsi_core.pair_blocks import block_scratch
+from sph_fsi_core.solid_gray2001 import (MOMENTUM_BLOCK_COLUMNS, continuity_rate, momentum_rate,
+                                         xsph_velocity_and_gradient)
 
 DP, H = 1e-3, 1.3e-3
 NO_PERIOD = np.zeros(3)
@@ -45,7 +47,7 @@ def _solid_passes(chunks):
     acc = np.zeros((n, 3))
     momentum_rate(pos, NO_PERIOD, mass, np.ones(n, dtype=np.bool_), rho, vel, sigma_over_rho2, np.zeros((n, 6)),
                   nl.start, nl.index, H, 30.0, 1.0, 1.0, 0, 1.0, np.zeros(3), acc, w.copy(), f.copy(), buf, False,
-                  np.zeros((n, 3, 3)))
+                  np.zeros((n, 3, 3)), block_scratch(chunks, MOMENTUM_BLOCK_COLUMNS))
     return {"vhat": vhat, "grad_v": grad, "drho": drho, "acc": acc}
 
 

@@ -9,6 +9,7 @@ every particle, surface and corners included.
 import numpy as np
 
 from sph_fsi_core.neighbours import NeighbourList, pair_kernel_values
+from sph_fsi_core.pair_blocks import block_scratch
 from sph_fsi_core.solid_gray2001 import xsph_velocity_and_gradient
 
 
@@ -53,7 +54,7 @@ def test_plain_gradient_turns_rotation_into_strain_at_surfaces():
 
 def test_momentum_pass_conserves_momentum_with_and_without_correction():
     """Each pair adds equal and opposite forces (half list), also with per-particle K^-1: sum_a m_a a_a = 0."""
-    from sph_fsi_core.solid_gray2001 import momentum_rate
+    from sph_fsi_core.solid_gray2001 import MOMENTUM_BLOCK_COLUMNS, momentum_rate
     rng = np.random.default_rng(5)
     dp, h = 1e-3, 1.3e-3
     g = (np.arange(5) + 0.5) * dp
@@ -73,7 +74,7 @@ def test_momentum_pass_conserves_momentum_with_and_without_correction():
         acc = np.zeros((n, 3))
         momentum_rate(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sig, art, nl.start,
                       nl.index, h, 176.0, 1.0, 1.0, 4, 1.0 / 0.2, np.zeros(3), acc, np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((2, n, 18)),
-                      correct, kinv)
+                      correct, kinv, block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
         total = (mass[:, None] * acc).sum(axis=0)
         scale = (mass[:, None] * np.abs(acc)).sum()
         assert scale > 0
@@ -149,7 +150,7 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
 def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power():
     """Pair forces are equal and opposite (sum m a = 0), and their power equals minus the stress power
     sum_a V_a sigma_a : L_a of the same gradient: the discrete system stores exactly the work it receives."""
-    from sph_fsi_core.solid_mls import momentum_rate_mls, xsph_velocity_and_mls_gradient
+    from sph_fsi_core.solid_mls import MOMENTUM_BLOCK_COLUMNS, momentum_rate_mls, xsph_velocity_and_mls_gradient
     pos, dp, h = _beam_cloud(jitter=0.05, seed=3)
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
@@ -160,7 +161,7 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     refreshed = np.zeros_like(weights)
     momentum_rate_mls(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sigma / rho[:, None] ** 2,
                       np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, refreshed,
-                      np.zeros((2, n, 18)), np.zeros((0, 3, 9)))
+                      np.zeros((2, n, 18)), np.zeros((0, 3, 9)), block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)

@@ -10,7 +10,8 @@ from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid_gradient_integration import gradient_force_rows, gradient_strain_energy, velocity_hessian
-from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls
+from sph_fsi_core.pair_blocks import block_scratch
+from sph_fsi_core.solid_mls import MOMENT_COUNT, MOMENTUM_BLOCK_COLUMNS, N_BASIS, mls_fit_rows, momentum_rate_mls
 from sph_fsi_core.tensors import SYM_INDEX
 
 
@@ -69,7 +70,8 @@ def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_po
     # the momentum pass with no stress and no viscosity: the stress gradient's force alone
     momentum_rate_mls(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, np.zeros((n, 6)), np.zeros((n, 6)),
                       nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, np.zeros(nl.pairs),
-                      np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), force_rows)
+                      np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), force_rows,
+                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
     force = mass[:, None] * acc
     assert np.abs(force.sum(axis=0)).max() < 1e-12 * np.abs(force).sum()
     hessian = _hessian(pos, h, mass, rho, nl, rows, w, vel)

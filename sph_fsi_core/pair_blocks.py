@@ -1,0 +1,74 @@
+"""Pair passes in blocks of neighbours: gather, compute in SIMD lanes, scatter.
+
+A pass over particle a's neighbour row handles it in blocks of up to BLOCK pairs, each in three loops:
+
+1. gather (scalar): what the pair needs of each neighbour b, read through the list's index, into the columns of a
+   per-thread scratch block (column c of pair j at block[c * STRIDE + j]);
+2. compute: one loop over the block's columns with no indirection, no branch and no running sum, so LLVM turns it
+   into vector code (8 pairs per AVX-512 instruction, square roots and divisions included: on the 2-core CI
+   machine a scalar pair loop spends about half its time waiting on the divider);
+3. scatter (scalar): the pair terms summed into a and, through the index, into b, in the row's order.
+
+Each pair's arithmetic is the same expression, in the same order, as in a scalar loop, and fastmath is off (no
+fused multiply-adds, no reordering), so the results are the same to the bit; only where the time goes changes
+(docs/method.md, "Performance design"). A block is padded to a multiple of LANES with pairs beyond the kernel's
+support (FAR_IN_H: W = F = 0), so the compute loop has no scalar remainder.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from .kernels import cubic_spline_wf
+from .neighbours import minimum_image
+
+LANES = 8                  # float64 lanes of an AVX-512 register
+BLOCK = 64                 # pairs per block; longer rows are done in several blocks
+STRIDE = BLOCK + LANES     # column stride: columns 4 KiB apart would alias in the load/store queue
+FAR_IN_H = 4.0             # a padding pair sits 4 h apart, where the kernel and its gradient vanish
+
+
+def block_scratch(chunks, columns):
+    """Zeroed scratch for `chunks` threads of `columns` block columns each, as the passes take it."""
+    return np.zeros((max(int(chunks), 1), columns * STRIDE))
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def padded(m):
+    """The block length the compute loop runs over: m rounded up to a multiple of LANES."""
+    return (m + LANES - 1) // LANES * LANES
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def pad_block(block, m, col_far, far, other_columns_lo, other_columns_hi, fill):
+    """Padding pairs m..padded(m)-1: `far` in column col_far (a separation or squared separation of a pair beyond
+    the support: FAR_IN_H h or its square), `fill` in the columns [other_columns_lo, other_columns_hi) (1 where a
+    column is divided by, 0 elsewhere: see the callers). Their results are computed and never read."""
+    for j in range(m, padded(m)):
+        block[col_far * STRIDE + j] = far
+        for col in range(other_columns_lo, other_columns_hi):
+            block[col * STRIDE + j] = fill
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def minimum_image_block(block, col_x, m, period, inv_period):
+    """neighbours.minimum_image on the separations of a block's m pairs, in columns col_x, col_x + 1, col_x + 2;
+    called only for periodic scenes (the gather stores plain differences)."""
+    for k in range(3):
+        p = period[k]
+        ip = inv_period[k]
+        if p > 0.0:
+            c0 = (col_x + k) * STRIDE
+            for j in range(m):
+                block[c0 + j] = minimum_image(block[c0 + j], p, ip)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def kernel_block(block, col_r2, col_w, col_f, m, inv_h, sigma):
+    """The M4 kernel of eq. (1) for the m pairs of a block: W (col_w) and F = (dW/dr)/r (col_f) from r^2 (col_r2),
+    by kernels.cubic_spline_wf (whose one branch LLVM turns into a select)."""
+    w0 = col_w * STRIDE
+    f0 = col_f * STRIDE
+    r0 = col_r2 * STRIDE
+    for j in range(m):
+        block[w0 + j], block[f0 + j] = cubic_spline_wf(math.sqrt(block[r0 + j]), inv_h, sigma)
