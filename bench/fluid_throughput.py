@@ -14,11 +14,12 @@ import json
 import os
 import time
 
-# GNU OpenMP threads spin between parallel regions; the correction loop runs four regions per iteration, and on a
-# shared machine (load above the core count) spinning threads that lose their core stall every region: measured
-# 0.10 M particle-iterations/s spinning against 0.48 passive at load 4.3 on 2 cores. Passive waiting costs little
-# on an idle machine. Only effective if set before the first parallel region (i.e. when run on its own).
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+# GNU OpenMP threads spin between parallel regions; the correction loop runs four regions per iteration. On a
+# shared machine (load above the core count) spinning threads that lose their core stall every region (measured
+# 0.10 M particle-iterations/s spinning against 0.48 passive at load 4.3 on 2 cores), but on a quiet one passive
+# waiting costs the tank at 10^5 particles 1.7x (session 11, both code versions): the benchmark measures what the
+# command line and the node run, with the policy left unset; `OMP_WAIT_POLICY=PASSIVE python -m bench...` for a
+# loaded machine. The table records the policy.
 
 import numba  # noqa: E402
 

@@ -93,49 +93,92 @@ def _largest(x):
     return m
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2, half, cx, cy,
+                 cz, out, slot, capacity):
+    """Target a's row: the sources within the cutoff in the 27 cells around it, in cell order (b > a only for a half
+    list), written to out[slot:] while slot stays below `capacity`; returns the row's length (all of it)."""
+    nx = _wrapped_cells(tcell[a, 0], ncell[0], period[0] > 0.0, cx)
+    ny = _wrapped_cells(tcell[a, 1], ncell[1], period[1] > 0.0, cy)
+    nz = _wrapped_cells(tcell[a, 2], ncell[2], period[2] > 0.0, cz)
+    xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
+    count = 0
+    for ix in range(nx):
+        for iy in range(ny):
+            for iz in range(nz):
+                lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
+                for s in range(cell_start[lid], cell_start[lid + 1]):
+                    b = order[s]
+                    if half and b <= a:
+                        continue
+                    dx = _image(xa - sorted_sources[s, 0], period[0], half_period[0])
+                    dy = _image(ya - sorted_sources[s, 1], period[1], half_period[1])
+                    dz = _image(za - sorted_sources[s, 2], period[2], half_period[2])
+                    if dx * dx + dy * dy + dz * dz < cutoff2:
+                        if slot + count < capacity:
+                            out[slot + count] = b
+                        count += 1
+    return count
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index,
-                        fill):
-    """neighbours._scan_pairs with the sources' positions in cell order (`sorted_sources` = sources[order], read
-    sequentially cell by cell instead of gathered) and a division-free minimum image (fluid_okaji._image: the
-    fluid's positions are wrapped into the periodic box after every step and move less than the skin within one,
-    so one shift by the period is always enough). Counts per target (fill=False) or writes them into `index`."""
+def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, counts, buffers,
+                      used):
+    """One scan over the candidate pairs (neighbours._scan_pairs with the sources' positions in cell order and a
+    division-free minimum image, fluid_okaji._image: the fluid's positions are wrapped into the periodic box after
+    every step and move less than the skin within one, so one shift by the period is always enough).
+
+    Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c] and their
+    lengths to counts[a + 1]; used[c] = the length of all its rows, more than the buffer holds if it overflowed
+    (the counts are right either way)."""
+    n = targets.shape[0]
+    chunks = buffers.shape[0]
+    capacity = buffers.shape[1]
     cutoff2 = cutoff * cutoff
-    px, py, pz = period[0], period[1], period[2]
-    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
-    for a in prange(targets.shape[0]):
+    half_period = 0.5 * period
+    for c in prange(chunks):
         cx = np.empty(3, dtype=np.int64)
         cy = np.empty(3, dtype=np.int64)
         cz = np.empty(3, dtype=np.int64)
-        nx = _wrapped_cells(tcell[a, 0], ncell[0], px > 0.0, cx)
-        ny = _wrapped_cells(tcell[a, 1], ncell[1], py > 0.0, cy)
-        nz = _wrapped_cells(tcell[a, 2], ncell[2], pz > 0.0, cz)
-        xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
-        count = 0
-        slot = start[a] if fill else 0
-        for ix in range(nx):
-            for iy in range(ny):
-                for iz in range(nz):
-                    lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
-                    for s in range(cell_start[lid], cell_start[lid + 1]):
-                        b = order[s]
-                        if half and b <= a:
-                            continue
-                        dx = _image(xa - sorted_sources[s, 0], px, hx)
-                        dy = _image(ya - sorted_sources[s, 1], py, hy)
-                        dz = _image(za - sorted_sources[s, 2], pz, hz)
-                        if dx * dx + dy * dy + dz * dz < cutoff2:
-                            if fill:
-                                index[slot] = b
-                                slot += 1
-                            count += 1
-        if not fill:
-            start[a + 1] = count
+        out = buffers[c]
+        slot = 0
+        for a in range((n * c) // chunks, (n * (c + 1)) // chunks):
+            k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2,
+                             half, cx, cy, cz, out, slot, capacity)
+            counts[a + 1] = k
+            slot += k
+        used[c] = slot
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def _fill_rows(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index):
+    """The same scan writing each row into index[start[a]:start[a + 1]] (after a chunk buffer overflowed)."""
+    n = targets.shape[0]
+    cutoff2 = cutoff * cutoff
+    half_period = 0.5 * period
+    for a in prange(n):
+        cx = np.empty(3, dtype=np.int64)
+        cy = np.empty(3, dtype=np.int64)
+        cz = np.empty(3, dtype=np.int64)
+        _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2, half,
+                     cx, cy, cz, index, start[a], start[a + 1])
 
 
 class FluidNeighbourList(NeighbourList):
-    """NeighbourList whose build uses _scan_wrapped_pairs (sources read in cell order, no floor in the minimum
-    image); the same lists in the same order, the same staleness test."""
+    """NeighbourList whose build scans the candidates once (_scan_into_chunks: sources read in cell order, no floor
+    in the minimum image); the same lists in the same order, the same staleness test.
+
+    Each thread's rows go to a buffer sized from the previous build (a quarter more than its largest chunk, at
+    least PAIRS_PER_TARGET_GUESS per target on the first build) and are copied into place; a chunk that overflows
+    its buffer costs one more scan (_fill_rows), with the exact row lengths the first one counted. (Until session
+    11 every build scanned twice: once to count, once to fill.)"""
+
+    PAIRS_PER_TARGET_GUESS = 48
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._buffers = np.zeros((0, 0), dtype=np.int32)
+        self.overflows = 0
 
     def build(self, targets, sources):
         if self.half and sources is not targets:
@@ -145,13 +188,28 @@ class FluidNeighbourList(NeighbourList):
         tcell = scell if sources is targets else _cell_coordinates(targets, lo, cell_size, ncell, self.period)
         cell_start, order = _bin_sources(scell, ncell)
         sorted_sources = np.ascontiguousarray(sources[order])
-        start = np.zeros(len(targets) + 1, dtype=np.int64)
-        _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
-                            start, np.zeros(0, dtype=np.int32), False)
+        n = len(targets)
+        chunks = max(numba.get_num_threads(), 1)
+        if self._buffers.shape[0] != chunks:
+            per_chunk = (n + chunks - 1) // chunks
+            self._buffers = np.empty((chunks, per_chunk * self.PAIRS_PER_TARGET_GUESS + 64), dtype=np.int32)
+        start = np.zeros(n + 1, dtype=np.int64)
+        used = np.zeros(chunks, dtype=np.int64)
+        _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
+                          start, self._buffers, used)
         np.cumsum(start, out=start)
         index = np.empty(start[-1], dtype=np.int32)
-        _scan_wrapped_pairs(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff,
-                            self.half, start, index, True)
+        if used.max() <= self._buffers.shape[1]:
+            for c in range(chunks):
+                first = start[(n * c) // chunks]
+                index[first:first + used[c]] = self._buffers[c, :used[c]]
+        else:
+            self.overflows += 1
+            _fill_rows(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
+                       start, index)
+        wanted = int(1.25 * used.max()) + 64
+        if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
+            self._buffers = np.empty((chunks, wanted), dtype=np.int32)
         self.start, self.index = start, index
         self._targets_at_build = targets.copy()
         self._sources_at_build = None if sources is targets else sources.copy()

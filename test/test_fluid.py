@@ -258,3 +258,13 @@ def test_fluid_neighbour_list_equals_the_general_one(half):
     fast.build(pos, walls)
     assert general.pairs > 0 and np.array_equal(general.start, fast.start)
     assert np.array_equal(general.index, fast.index)
+    # a first build whose per-thread buffers are far too small scans again and gives the same rows
+    small = FluidNeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period, half=half)
+    small.PAIRS_PER_TARGET_GUESS = 1
+    small.build(pos, pos)
+    general.half = half
+    general.build(pos, pos)
+    assert small.overflows == 1
+    assert np.array_equal(general.start, small.start) and np.array_equal(general.index, small.index)
+    small.build(pos, pos)           # sized from the first build: one scan
+    assert small.overflows == 1 and np.array_equal(general.index, small.index)
