@@ -195,14 +195,33 @@ def max_displacement(pos, pos_at_build):
     return math.sqrt(d2.max()) if n > 0 else 0.0
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _bounds(points):
+    """(lowest, highest) coordinate per axis of (N, 3) points, zeros for none: one pass (NumPy's min(axis=0) on a
+    C-ordered (N, 3) array took 0.27 ms at 10^4 points, most of a fluid list's grid set-up)."""
+    lo = np.zeros(3)
+    hi = np.zeros(3)
+    if points.shape[0] > 0:
+        for k in range(3):
+            lo[k] = points[0, k]
+            hi[k] = points[0, k]
+        for a in range(1, points.shape[0]):
+            for k in range(3):
+                x = points[a, k]
+                if x < lo[k]:
+                    lo[k] = x
+                if x > hi[k]:
+                    hi[k] = x
+    return lo, hi
+
+
 def _grid(points, cutoff, period, box_lo, box_hi):
     """Cell grid over the points (periodic axes: over the box), cells at least `cutoff` wide.
 
     The number of cells is bounded by max(MIN_CELL_BUDGET, 8 N): a particle flung far away (a diverging run)
     coarsens the grid on the open axes instead of allocating a huge one.
     """
-    lo = points.min(axis=0) if len(points) else np.zeros(3)
-    hi = points.max(axis=0) if len(points) else np.zeros(3)
+    lo, hi = _bounds(points)
     cell_size = np.empty(3)
     ncell = np.empty(3, dtype=np.int64)
     for k in range(3):
