@@ -352,7 +352,8 @@ class Simulation:
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
-                               wk.force_rows, wk.hessian_moments, wk.turn, wk.fit_refresh, wk.blocks)
+                               wk.force_rows, wk.hessian_moments, wk.turn, wk.fit_refresh, wk.blocks,
+                               wk.volume)
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid()

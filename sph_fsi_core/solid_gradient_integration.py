@@ -98,11 +98,12 @@ def _scatter_moments(out, b, col, k, p0, p1, p2, p3, p4, p5, p6, p7, p8):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hessian, moments):
+def velocity_hessian(pos, period, volume, vel, start, index, h, rows, w, hessian, moments):
     """hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)]; `w` holds W_ab at `pos`.
 
-    H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab): the pairs only sum the 27 moments (per-chunk
-    `moments`, chunks x N x 27), the rows are applied once per particle.
+    H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab), s_ab = V_b W_ab / h^2: the pairs only sum the 27
+    moments (per-chunk `moments`, chunks x N x 27), the rows are applied once per particle. volume: V = m / rho
+    per particle (solid_stepper.particle_volumes).
     """
     inv_period = inverse_periods(period)
     n = pos.shape[0]
@@ -112,7 +113,7 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
         out = moments[c]
         out[:, :] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
-            va = mass[a] / rho[a]
+            va = volume[a]
             zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             mx = my = mz = zero    # particle a's moments, one 9-tuple per velocity component
             for s in range(start[a], start[a + 1]):
@@ -123,7 +124,7 @@ def velocity_hessian(pos, period, mass, rho, vel, start, index, h, rows, w, hess
                 uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1]) * inv_h
                 uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2]) * inv_h
                 qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
-                sab = mass[b] / rho[b] * w[s] * inv_h * inv_h
+                sab = volume[b] * w[s] * inv_h * inv_h
                 sba = va * w[s] * inv_h * inv_h
                 dvx = vel[b, 0] - vel[a, 0]
                 dvy = vel[b, 1] - vel[a, 1]

@@ -48,14 +48,15 @@ def sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
+def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
                                correct_gradient, kinv):
     """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
 
     One pass over the half list (each pair once): with g = grad_a W_ab and dv = v_b - v_a, the pair adds
     V_b dv (x) g to L_a and V_a dv (x) g to L_b (grad_b W_ba = -g and v_a - v_b = -dv), and m/rhobar W dv with
     opposite signs to the two XSPH sums. Each chunk of rows accumulates into its own slice of `buf`
-    (chunks, N, 21), so there are no write races; a second loop sums the chunks.
+    (chunks, N, 21), so there are no write races; a second loop sums the chunks. volume: V = m / rho per
+    particle (solid_stepper.particle_volumes).
 
     correct_gradient: also sum K_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab and return L K^-1, the velocity
     gradient that is exact for linear fields also where the kernel is truncated (free surfaces); K^-1 is left
@@ -68,14 +69,14 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
         out = buf[c]
         out[:, 0:18 if correct_gradient else 12] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
-            va = mass[a] / rho[a]
+            va = volume[a]
             # a's sums stay in registers; only b's go through the buffer
             x0 = x1 = x2 = 0.0
             l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
             k00 = k01 = k02 = k11 = k12 = k22 = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
-                vb = mass[b] / rho[b]
+                vb = volume[b]
                 fs = f[s]
                 rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
                 ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
@@ -195,11 +196,12 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, 
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
+def continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf):
     """Eq. (3): d rho_a/dt = rho_a sum_b (m_b/rho_b) (vhat_a - vhat_b) . grad_a W_ab.
 
     Half list: the pair's (vhat_a - vhat_b) . grad_a W_ab is the same seen from b, so it adds V_b times it to a's
-    sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient).
+    sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient). volume: V = m / rho per
+    particle, divided once per step rather than once per pair (solid_stepper.particle_volumes).
     """
     inv_period = inverse_periods(period)
     n = vhat.shape[0]
@@ -208,7 +210,7 @@ def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
         out = buf[c]
         out[:, 0] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
-            va = mass[a] / rho[a]
+            va = volume[a]
             da = 0.0
             for s in range(start[a], start[a + 1]):
                 b = index[s]
@@ -217,7 +219,7 @@ def continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf):
                 rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
                 d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
                             + (vhat[a, 2] - vhat[b, 2]) * rz)
-                da += mass[b] / rho[b] * d
+                da += volume[b] * d
                 out[b, 0] += va * d
             out[a, 0] += da
     for a in prange(n):

@@ -92,6 +92,7 @@ class SolidWork:
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 18))
         self.blocks = block_scratch(self.buf.shape[0], max(GRAY_BLOCK_COLUMNS, MLS_BLOCK_COLUMNS))
         self.vhat = np.zeros((n, 3))
+        self.volume = np.zeros(n)           # m / rho, once per step (particle_volumes)
         self.grad_v = np.zeros((n, 3, 3))
         self.drho = np.zeros(n)
         self.dstress = np.zeros((n, 6))
@@ -179,6 +180,13 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def particle_volumes(mass, rho, volume):
+    """V_a = m_a / rho_a, once per step for the pair passes that weight each neighbour by its volume."""
+    for a in range(mass.shape[0]):
+        volume[a] = mass[a] / rho[a]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _max_norm(v):
     m = 0.0
     for a in range(v.shape[0]):
@@ -192,7 +200,7 @@ def _max_norm(v):
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
                    w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
-                   force_rows, hessian_moments, turn, fit_refresh, blocks):
+                   force_rows, hessian_moments, turn, fit_refresh, blocks, volume):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -213,20 +221,22 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         mirror_clamp_velocities(vel, clamp_mirror)
+        if prm.gradient_order != 2 or prm.cell_moment > 0.0:
+            particle_volumes(mass, rho, volume)
         if prm.gradient_order == 2:
             xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v,
                                            buf)
         else:
-            xsph_velocity_and_gradient(pos, period, mass, rho, vel, start, index, w, f, prm.xsph_eps, vhat, grad_v,
-                                       buf, prm.gradient_order == 1, kinv)
+            xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps, vhat,
+                                       grad_v, buf, prm.gradient_order == 1, kinv)
         if prm.gradient_order == 0:
-            continuity_rate(pos, period, mass, rho, vhat, start, index, f, drho, buf)
+            continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf)
         else:
             # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
             velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         if prm.cell_moment > 0.0:
-            velocity_hessian(pos, period, mass, rho, vel, start, index, prm.h, mls_rows, w, hessian, hessian_moments)
+            velocity_hessian(pos, period, volume, vel, start, index, prm.h, mls_rows, w, hessian, hessian_moments)
             stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:

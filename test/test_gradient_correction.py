@@ -29,8 +29,8 @@ def _block_gradient(velocity_gradient, correct):
     vhat = np.zeros((n, 3))
     grad = np.zeros((n, 3, 3))
     buf = np.zeros((2, n, 18))
-    xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, w, f, 0.5, vhat, grad, buf,
-                               correct, np.zeros((n, 3, 3)))
+    xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5, vhat,
+                               grad, buf, correct, np.zeros((n, 3, 3)))
     return pos, grad
 
 
@@ -140,7 +140,7 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
     grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, w, f, 0.5,
+    xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
                                np.zeros((n, 3)), grad, np.zeros((2, n, 18)), True, np.zeros((n, 3, 3)))
     outer = np.isclose(zc, 1.5 * dp) & (pos[:, 0] > 4 * dp) & (pos[:, 0] < 8 * dp)
     ratio = -grad[outer, 0, 0] / zc[outer]

@@ -39,7 +39,7 @@ def _jittered_bar(seed):
 def _hessian(pos, h, mass, rho, nl, rows, w, vel):
     n = len(pos)
     hessian = np.zeros((n, 3, 6))
-    velocity_hessian(pos, np.zeros(3), mass, rho, vel, nl.start, nl.index, h, rows, w, hessian,
+    velocity_hessian(pos, np.zeros(3), mass / rho, vel, nl.start, nl.index, h, rows, w, hessian,
                      np.zeros((2, n, 27)))
     return hessian
 
