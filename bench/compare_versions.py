@@ -1,0 +1,95 @@
+"""Step a scene with this checkout's simulator and with another commit's, in one process: are the results the same
+to the bit, and which is faster?
+
+    python -m bench.compare_versions REF SCENE [--steps N] [--rounds R] [--set KEY=VALUE ...]
+
+REF is any git commit (e.g. HEAD~3). Its `sph_fsi_core` and `config/` are exported with `git archive` into a temporary
+directory as the package `ref_core`, so both versions import side by side. Both simulations are built from the same
+scene and overrides; `--steps` outer steps later their positions, velocities and densities are compared (bitwise, or
+the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's 2-core VM a
+process can run at half speed for its whole life (docs/performance/BENCH.md), so code versions are compared only
+within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it.
+"""
+import argparse
+import importlib
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def export(ref, into):
+    """`git archive REF sph_fsi_core config` unpacked into `into`, the package renamed ref_core."""
+    archive = into / "ref.tar"
+    subprocess.run(["git", "-C", str(ROOT), "archive", "-o", str(archive), ref, "sph_fsi_core", "config"], check=True)
+    with tarfile.open(archive) as tar:
+        tar.extractall(into, filter="data")
+    (into / "sph_fsi_core").rename(into / "ref_core")
+    return into
+
+
+def state(sim):
+    out = {}
+    for phase in ("solid", "fluid"):
+        obj = getattr(sim, phase)
+        if obj is not None:
+            for name in ("pos", "vel", "rho"):
+                out[f"{phase}.{name}"] = getattr(obj, name).copy()
+    return out
+
+
+def particle_steps(sim):
+    n = sim.solid.count * sim.solid_steps if sim.solid is not None else 0
+    return n + (sim.fluid.count * sim.fluid_steps if sim.fluid is not None else 0)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("ref")
+    parser.add_argument("scene")
+    parser.add_argument("--steps", type=int, default=5, help="outer steps before the comparison")
+    parser.add_argument("--rounds", type=int, default=6, help="timed outer steps per version after it")
+    parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    args = parser.parse_args(argv)
+    with tempfile.TemporaryDirectory() as tmp:
+        sys.path.insert(0, str(export(args.ref, Path(tmp))))
+        versions = {}
+        for name, package in ((args.ref, "ref_core"), ("this checkout", "sph_fsi_core")):
+            scene = importlib.import_module(f"{package}.scene")
+            simulation = importlib.import_module(f"{package}.simulation")
+            spec = scene.load_scene(args.scene, args.overrides + ["output.snapshot_interval=0"])
+            versions[name] = simulation.Simulation(spec)
+        for sim in versions.values():
+            for _ in range(args.steps):
+                sim.step()
+        (ref_name, ref_sim), (new_name, new_sim) = versions.items()
+        a, b = state(ref_sim), state(new_sim)
+        same = True
+        for key in a:
+            if np.array_equal(a[key], b[key]):
+                print(f"{key}: the same to the bit")
+            else:
+                same = False
+                print(f"{key}: differs by up to {np.abs(a[key] - b[key]).max():.3e} (values up to "
+                      f"{np.abs(a[key]).max():.3e})")
+        rates = {name: [] for name in versions}
+        for _ in range(args.rounds):
+            for name, sim in versions.items():
+                work, t0 = particle_steps(sim), time.perf_counter()
+                sim.step()
+                rates[name].append((particle_steps(sim) - work) / (time.perf_counter() - t0))
+        medians = {name: float(np.median(r)) for name, r in rates.items()}
+        for name, r in medians.items():
+            print(f"{name}: {r / 1e6:.3f} M particle-steps/s (median of {args.rounds} outer steps)")
+        print(f"speed-up of this checkout over {ref_name}: {medians[new_name] / medians[ref_name]:.2f}x")
+    return 0 if same else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
