@@ -50,6 +50,45 @@ def pad_block(block, m, col_far, far, other_columns_lo, other_columns_hi, fill):
             block[col * STRIDE + j] = fill
 
 
+# The first columns of a solid pass's block: the pair's motion, which every solid pair term needs.
+SEPARATION = 0             # 3 columns: r_a - r_b, a plain difference (minimum_image_block makes it periodic)
+VELOCITY_DIFFERENCE = 3    # 3 columns: v_a - v_b
+NEIGHBOUR_DENSITY = 6      # rho_b
+MOTION_COLUMNS = 7
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho, h):
+    """The motion columns of pairs lo..lo+m-1 of a's row (a at xa.. moving at vxa..), and their padding (a pair
+    FAR_IN_H h apart, at rest, of density 1) up to padded(m)."""
+    pad_block(block, m, SEPARATION, FAR_IN_H * h, SEPARATION + 1, NEIGHBOUR_DENSITY, 0.0)
+    pad_block(block, m, NEIGHBOUR_DENSITY, 1.0, 0, 0, 0.0)
+    for j in range(m):
+        b = index[lo + j]
+        block[SEPARATION * STRIDE + j] = xa - pos[b, 0]
+        block[(SEPARATION + 1) * STRIDE + j] = ya - pos[b, 1]
+        block[(SEPARATION + 2) * STRIDE + j] = za - pos[b, 2]
+        block[VELOCITY_DIFFERENCE * STRIDE + j] = vxa - vel[b, 0]
+        block[(VELOCITY_DIFFERENCE + 1) * STRIDE + j] = vya - vel[b, 1]
+        block[(VELOCITY_DIFFERENCE + 2) * STRIDE + j] = vza - vel[b, 2]
+        block[NEIGHBOUR_DENSITY * STRIDE + j] = rho[b]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def gather_tensors(block, col, index, lo, m, tensors):
+    """b's symmetric tensor (six components, tensors[b]) of pairs lo..lo+m-1 into the columns col..col+5, zeros
+    for the padding; written out (a loop over the components measured 7-14 % slower in the momentum passes)."""
+    for j in range(m):
+        b = index[lo + j]
+        block[col * STRIDE + j] = tensors[b, 0]
+        block[(col + 1) * STRIDE + j] = tensors[b, 1]
+        block[(col + 2) * STRIDE + j] = tensors[b, 2]
+        block[(col + 3) * STRIDE + j] = tensors[b, 3]
+        block[(col + 4) * STRIDE + j] = tensors[b, 4]
+        block[(col + 5) * STRIDE + j] = tensors[b, 5]
+    pad_block(block, m, col, 0.0, col + 1, col + 6, 0.0)
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def minimum_image_block(block, col_x, m, period, inv_period):
     """neighbours.minimum_image on the separations of a block's m pairs, in columns col_x, col_x + 1, col_x + 2;

@@ -17,8 +17,8 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_wf
 from .neighbours import chunk_first_target, inverse_periods, minimum_image
-from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, minimum_image_block, pad_block, padded
-from .schema import MAX_ART_EXPONENT
+from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
+                          gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
 
@@ -320,6 +320,26 @@ def stress_terms(stress, rho, rho0, c0_squared, art_eps, pressure, sigma_over_rh
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def integer_power(x, n):
+    """x^n for 0 <= n < 16 by squaring (solid.artificial_stress_exponent is at most MAX_ART_EXPONENT = 12): the
+    same steps whatever n is, so a pass computing many pairs at once runs them in SIMD lanes (before session 11, n
+    products in a row: the same to the bit for n <= 4, x (x x) = (x x) x; larger n round differently, by an ulp
+    or so). Written out: a loop over the bits kept the pass that inlines it from being vectorized."""
+    result = 1.0
+    if n & 1:
+        result *= x
+    x2 = x * x
+    if n & 2:
+        result *= x2
+    x4 = x2 * x2
+    if n & 4:
+        result *= x4
+    if n & 8:
+        result *= x4 * x4
+    return result
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def viscous_and_artificial_stress_terms(vr, rho_a, rho_b, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
                                         inv_w_dp, rxx, ryy, rzz, rxy, rxz, ryz):
     """The pair's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ).
@@ -337,12 +357,7 @@ def viscous_and_artificial_stress_terms(vr, rho_a, rho_b, r2, wab, h, eta2, soun
             fn = ratio * ratio
             fn *= fn
         else:
-            # ratio^n as n multiplications in a loop of fixed length (the schema allows n <= 12), so that a pass
-            # computing many pairs at once can still run them in SIMD lanes
-            fn = 1.0
-            for k in range(MAX_ART_EXPONENT):
-                if k < art_exponent:
-                    fn *= ratio
+            fn = integer_power(ratio, art_exponent)
         txx += rxx * fn
         tyy += ryy * fn
         tzz += rzz * fn
@@ -352,9 +367,13 @@ def viscous_and_artificial_stress_terms(vr, rho_a, rho_b, r2, wab, h, eta2, soun
     return txx, tyy, tzz, txy, txz, tyz
 
 
-# block columns of the momentum pass (pair_blocks.py): gathered per pair, then the pair's results
-(_RX, _RY, _RZ, _DVX, _DVY, _DVZ, _RHO_B, _S_B, _R_B, _K_B, _GX, _GY, _GZ, _W, _F) = (
-    0, 1, 2, 3, 4, 5, 6, 7, 13, 19, 28, 29, 30, 31, 32)
+# block columns of the momentum pass (pair_blocks.py): the pair's motion, b's tensors, then the pair's results
+_RX, _RY, _RZ = SEPARATION, SEPARATION + 1, SEPARATION + 2
+_DVX, _DVY, _DVZ = VELOCITY_DIFFERENCE, VELOCITY_DIFFERENCE + 1, VELOCITY_DIFFERENCE + 2
+_RHO_B = NEIGHBOUR_DENSITY
+(_S_B, _R_B, _K_B, _GX, _GY, _GZ, _W, _F) = (MOTION_COLUMNS, MOTION_COLUMNS + 6, MOTION_COLUMNS + 12,
+                                             MOTION_COLUMNS + 21, MOTION_COLUMNS + 22, MOTION_COLUMNS + 23,
+                                             MOTION_COLUMNS + 24, MOTION_COLUMNS + 25)
 MOMENTUM_BLOCK_COLUMNS = 33   # _S_B, _R_B: six columns each (b's sigma / rho^2, R_b); _K_B: nine (K_b^-1)
 
 
@@ -435,8 +454,8 @@ def _momentum_pair_block(block, m, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sou
     into _GX.._GZ (particle a gets m_b times it, b minus m_a times it), and W_ab, F_ab into _W, _F.
 
     sa, ra: particle a's sigma / rho^2 and R_a; ka: its K^-1 (used with correct_gradient). One loop per setting
-    (no artificial stress, Gray's n = 4, another n; with or without the corrected gradient), each with its options
-    as constants: a branch inside a SIMD loop runs both sides on every pair."""
+    (no artificial stress, Gray's n = 4, another n; with or without the corrected gradient), each with its
+    options as constants: a branch inside a SIMD loop runs both sides on every pair."""
     sa = (sa[XX], sa[YY], sa[ZZ], sa[XY], sa[XZ], sa[YZ])
     ra = (ra[XX], ra[YY], ra[ZZ], ra[XY], ra[XZ], ra[YZ])
     ka = (ka[0, 0], ka[0, 1], ka[0, 2], ka[1, 0], ka[1, 1], ka[1, 2], ka[2, 0], ka[2, 1], ka[2, 2])
@@ -504,38 +523,16 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
             ax = ay = az = 0.0
             for lo in range(start[a], start[a + 1], BLOCK):
                 m = min(BLOCK, start[a + 1] - lo)
-                for j in range(m):
-                    b = index[lo + j]
-                    block[_RX * STRIDE + j] = xa - pos[b, 0]   # minimum image below, in SIMD lanes
-                    block[_RY * STRIDE + j] = ya - pos[b, 1]
-                    block[_RZ * STRIDE + j] = za - pos[b, 2]
-                    block[_DVX * STRIDE + j] = vxa - vel[b, 0]
-                    block[_DVY * STRIDE + j] = vya - vel[b, 1]
-                    block[_DVZ * STRIDE + j] = vza - vel[b, 2]
-                    block[_RHO_B * STRIDE + j] = rho[b]
-                    block[(_S_B + XX) * STRIDE + j] = sigma_over_rho2[b, XX]
-                    block[(_S_B + YY) * STRIDE + j] = sigma_over_rho2[b, YY]
-                    block[(_S_B + ZZ) * STRIDE + j] = sigma_over_rho2[b, ZZ]
-                    block[(_S_B + XY) * STRIDE + j] = sigma_over_rho2[b, XY]
-                    block[(_S_B + XZ) * STRIDE + j] = sigma_over_rho2[b, XZ]
-                    block[(_S_B + YZ) * STRIDE + j] = sigma_over_rho2[b, YZ]
+                gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho, h)
+                gather_tensors(block, _S_B, index, lo, m, sigma_over_rho2)
                 if art_exponent > 0:
-                    for j in range(m):
-                        b = index[lo + j]
-                        for k in range(6):
-                            block[(_R_B + k) * STRIDE + j] = art_stress[b, k]
+                    gather_tensors(block, _R_B, index, lo, m, art_stress)
                 if correct_gradient:
                     for j in range(m):
                         b = index[lo + j]
                         for k in range(9):
                             block[(_K_B + k) * STRIDE + j] = kinv[b, k // 3, k % 3]
-                pad_block(block, m, _RX, FAR_IN_H * h, _RY, _S_B + 6, 0.0)
-                if art_exponent > 0:
-                    pad_block(block, m, _R_B, 0.0, _R_B + 1, _R_B + 6, 0.0)
-                if correct_gradient:
                     pad_block(block, m, _K_B, 0.0, _K_B + 1, _K_B + 9, 0.0)
-                for j in range(m, padded(m)):
-                    block[_RHO_B * STRIDE + j] = 1.0
                 if periodic:
                     minimum_image_block(block, _RX, m, period, inv_period)
                 _momentum_pair_block(block, padded(m), sigma_over_rho2[a], art_stress[a], kinv[a], rho[a], inv_h,

@@ -30,7 +30,8 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import chunk_first_target, inverse_periods, minimum_image
-from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, minimum_image_block, pad_block, padded
+from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
+                          gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .solid_gradient_integration import basis_dot, quadratic_monomials
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
@@ -287,9 +288,12 @@ def velocity_divergence_rate(rho, grad_v, drho):
         drho[a] = -rho[a] * (grad_v[a, 0, 0] + grad_v[a, 1, 1] + grad_v[a, 2, 2])
 
 
-# block columns of the momentum pass (pair_blocks.py): gathered per pair, then the pair's results
-(_RX, _RY, _RZ, _DVX, _DVY, _DVZ, _RHO_B, _MASS_B, _R_B, _R2, _W, _F, _G_AB, _F_A, _F_AV, _F_GRAD_A) = (
-    0, 1, 2, 3, 4, 5, 6, 7, 8, 14, 15, 16, 17, 20, 23, 26)
+# block columns of the momentum pass (pair_blocks.py): the pair's motion, b's mass and R_b, then the pair's results
+_RX, _RY, _RZ = SEPARATION, SEPARATION + 1, SEPARATION + 2
+_DVX, _DVY, _DVZ = VELOCITY_DIFFERENCE, VELOCITY_DIFFERENCE + 1, VELOCITY_DIFFERENCE + 2
+_RHO_B = NEIGHBOUR_DENSITY
+(_MASS_B, _R_B, _R2, _W, _F, _G_AB, _F_A, _F_AV, _F_GRAD_A) = tuple(MOTION_COLUMNS + k for k in (0, 1, 7, 8, 9, 10,
+                                                                                               13, 16, 19))
 MOMENTUM_BLOCK_COLUMNS = 29   # _R_B: six columns (R_b); _G_AB, _F_A, _F_AV, _F_GRAD_A: three each
 
 
@@ -434,25 +438,12 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
             fax = fay = faz = 0.0
             for lo in range(start[a], start[a + 1], BLOCK):
                 m = min(BLOCK, start[a + 1] - lo)
+                gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho, h)
                 for j in range(m):
-                    b = index[lo + j]
-                    block[_RX * STRIDE + j] = xa - pos[b, 0]   # minimum image below, in SIMD lanes
-                    block[_RY * STRIDE + j] = ya - pos[b, 1]
-                    block[_RZ * STRIDE + j] = za - pos[b, 2]
-                    block[_DVX * STRIDE + j] = vxa - vel[b, 0]
-                    block[_DVY * STRIDE + j] = vya - vel[b, 1]
-                    block[_DVZ * STRIDE + j] = vza - vel[b, 2]
-                    block[_RHO_B * STRIDE + j] = rho[b]
-                    block[_MASS_B * STRIDE + j] = mass[b]
-                pad_block(block, m, _RX, FAR_IN_H * h, _RY, _MASS_B + 1, 0.0)
+                    block[_MASS_B * STRIDE + j] = mass[index[lo + j]]
+                pad_block(block, m, _MASS_B, 0.0, 0, 0, 0.0)
                 if art_exponent > 0:
-                    for j in range(m):
-                        b = index[lo + j]
-                        for k in range(6):
-                            block[(_R_B + k) * STRIDE + j] = art_stress[b, k]
-                    pad_block(block, m, _R_B, 0.0, _R_B + 1, _R_B + 6, 0.0)
-                for j in range(m, padded(m)):
-                    block[_RHO_B * STRIDE + j] = 1.0
+                    gather_tensors(block, _R_B, index, lo, m, art_stress)
                 if periodic:
                     minimum_image_block(block, _RX, m, period, inv_period)
                 _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a], force_rows[a] if

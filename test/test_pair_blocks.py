@@ -15,7 +15,8 @@ from sph_fsi_core.neighbours import NeighbourList
 from sph_fsi_core.pair_blocks import BLOCK, block_scratch
 from sph_fsi_core.solid_gradient_integration import gradient_force_rows
 from sph_fsi_core.solid_gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
-from sph_fsi_core.solid_gray2001 import momentum_rate
+from sph_fsi_core.schema import MAX_ART_EXPONENT
+from sph_fsi_core.solid_gray2001 import integer_power, momentum_rate
 from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls
 from sph_fsi_core.solid_mls import MOMENTUM_BLOCK_COLUMNS as MLS_COLUMNS
 from sph_fsi_core.tensors import SYM_INDEX
@@ -192,3 +193,19 @@ def test_quadratic_fit_momentum_pass_equals_its_pair_forces_summed_over_every_pa
     a_of = np.repeat(np.arange(n), np.diff(nl.start))
     assert np.abs(weights[:, :3] - g_ab[a_of, nl.index]).max() < 1e-12 * np.abs(g_ab).max()
     assert np.abs(weights[:, 3:] - g_ab[nl.index, a_of]).max() < 1e-12 * np.abs(g_ab).max()
+
+
+def test_integer_power_covers_every_allowed_exponent():
+    """Gray's f_ab^n by squaring: n products in a row to the bit for n <= 4 (Gray's 4 as (x x)(x x)), to an ulp or
+    two above, for every n the schema allows."""
+    assert MAX_ART_EXPONENT < 16
+    for x in (0.0, 0.37, 0.999, 1.0):
+        assert integer_power(x, 4) == (x * x) * (x * x)
+        for n in range(MAX_ART_EXPONENT + 1):
+            product = 1.0
+            for _ in range(n):
+                product *= x
+            if n <= 4:
+                assert integer_power(x, n) == product
+            else:
+                assert integer_power(x, n) == pytest.approx(product, rel=4e-16 * n, abs=0.0)
