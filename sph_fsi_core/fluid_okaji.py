@@ -30,7 +30,7 @@ import math
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
-from .neighbours import chunk_first_target
+from .neighbours import chunk_first_target, unsigned
 from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, kernel_block, pad_block, padded
 
 
@@ -60,7 +60,7 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
     for lo in range(k0, k1, BLOCK):
         m = min(BLOCK, k1 - lo)
         for j in range(m):
-            b = index[lo + j]
+            b = index[unsigned(lo + j)]
             dx = _image(xa - src_pos[b, 0], period[0], half_period[0])
             dy = _image(ya - src_pos[b, 1], period[1], half_period[1])
             dz = _image(za - src_pos[b, 2], period[2], half_period[2])
@@ -68,12 +68,12 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
         pad_block(block, m, _R2, (FAR_IN_H * h) ** 2, 0, 0, 0.0)
         kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma)
         for j in range(m):
-            b = index[lo + j]
+            b = index[unsigned(lo + j)]
             w = block[_W * STRIDE + j]
             s += src_mass[b] * w
             if scatter_mass > 0.0:
                 out[b, 0] += scatter_mass * w
-            f_cache[lo + j] = block[_F * STRIDE + j]
+            f_cache[unsigned(lo + j)] = block[_F * STRIDE + j]
     return s
 
 
@@ -191,21 +191,22 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
             ax = 0.0
             ay = 0.0
             az = 0.0
-            for k in range(fstart[a], fstart[a + 1]):
+            # every pair, also those with no pressure or in the skin (coef = 0 adds zeros): a test per pair measured
+            # 1.2x slower, its branch taken at random
+            for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):
                 b = findex[k]
                 coef = (qa + p_over_rho2[b]) * f_fluid[k]
-                if coef != 0.0:
-                    dx = coef * _image(xa - pos[b, 0], px, hx)
-                    dy = coef * _image(ya - pos[b, 1], py, hy)
-                    dz = coef * _image(za - pos[b, 2], pz, hz)
-                    mb = mass[b]
-                    ax += mb * dx
-                    ay += mb * dy
-                    az += mb * dz
-                    out[b, 0] -= ma * dx
-                    out[b, 1] -= ma * dy
-                    out[b, 2] -= ma * dz
-            for k in range(wstart[a], wstart[a + 1]):
+                dx = coef * _image(xa - pos[b, 0], px, hx)
+                dy = coef * _image(ya - pos[b, 1], py, hy)
+                dz = coef * _image(za - pos[b, 2], pz, hz)
+                mb = mass[b]
+                ax += mb * dx
+                ay += mb * dy
+                az += mb * dz
+                out[b, 0] -= ma * dx
+                out[b, 1] -= ma * dy
+                out[b, 2] -= ma * dz
+            for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
                 b = windex[k]
                 coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
                 if coef != 0.0:
@@ -281,9 +282,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
             sx = 0.0
             sy = 0.0
             sz = 0.0
-            for k in range(fstart[a], fstart[a + 1]):
-                if f_fluid[k] == 0.0:
-                    continue
+            for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):   # pairs in the skin add zeros
                 b = findex[k]
                 dx = _image(xa - pos[b, 0], px, hx)
                 dy = _image(ya - pos[b, 1], py, hy)

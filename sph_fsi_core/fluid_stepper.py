@@ -37,7 +37,8 @@ from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, _image, apply_displacement, com
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
-from .neighbours import NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells
+from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells,
+                         unsigned)
 from .pair_blocks import block_scratch
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
@@ -107,7 +108,7 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, pe
         for iy in range(ny):
             for iz in range(nz):
                 lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
-                for s in range(cell_start[lid], cell_start[lid + 1]):
+                for s in range(unsigned(cell_start[lid]), unsigned(cell_start[lid + 1])):
                     b = order[s]
                     if half and b <= a:
                         continue
@@ -177,7 +178,7 @@ class FluidNeighbourList(NeighbourList):
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
-        self._buffers = np.zeros((0, 0), dtype=np.int32)
+        self._buffers = np.zeros((0, 0), dtype=INDEX_DTYPE)
         self.overflows = 0
 
     def build(self, targets, sources):
@@ -192,13 +193,13 @@ class FluidNeighbourList(NeighbourList):
         chunks = max(numba.get_num_threads(), 1)
         if self._buffers.shape[0] != chunks:
             per_chunk = (n + chunks - 1) // chunks
-            self._buffers = np.empty((chunks, per_chunk * self.PAIRS_PER_TARGET_GUESS + 64), dtype=np.int32)
+            self._buffers = np.empty((chunks, per_chunk * self.PAIRS_PER_TARGET_GUESS + 64), dtype=INDEX_DTYPE)
         start = np.zeros(n + 1, dtype=np.int64)
         used = np.zeros(chunks, dtype=np.int64)
         _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
                           start, self._buffers, used)
         np.cumsum(start, out=start)
-        index = np.empty(start[-1], dtype=np.int32)
+        index = np.empty(start[-1], dtype=INDEX_DTYPE)
         if used.max() <= self._buffers.shape[1]:
             for c in range(chunks):
                 first = start[(n * c) // chunks]
@@ -209,7 +210,7 @@ class FluidNeighbourList(NeighbourList):
                        start, index)
         wanted = int(1.25 * used.max()) + 64
         if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
-            self._buffers = np.empty((chunks, wanted), dtype=np.int32)
+            self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)
         self.start, self.index = start, index
         self._targets_at_build = targets.copy()
         self._sources_at_build = None if sources is targets else sources.copy()
@@ -238,7 +239,7 @@ class FluidSolver:
         self.wall_p_over_rho2 = np.zeros(len(self.wall_mass))
         self.active_walls = np.zeros(0, dtype=np.int64)
         self._no_walls_start = np.zeros(n + 1, dtype=np.int64)
-        self._no_walls_index = np.zeros(0, dtype=np.int32)
+        self._no_walls_index = np.zeros(0, dtype=INDEX_DTYPE)
         self.pos_old = np.zeros((n, 3))
         self.disp = np.zeros((n, 3))
         self.p = np.zeros(n)

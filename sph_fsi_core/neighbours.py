@@ -20,6 +20,18 @@ from .kernels import cubic_spline_wf
 
 MAX_CELLS_PER_AXIS = 1024
 MIN_CELL_BUDGET = 1 << 20   # the grid may hold max(MIN_CELL_BUDGET, 8 N) cells
+# Neighbour lists hold unsigned indices: Numba wraps a negative signed index (a[-1] is the last element), a test
+# and an add on every load through an index read from memory, which the compiler cannot prove away. Unsigned, the
+# fluid's density and pressure passes ran 1.2x faster (session 12).
+INDEX_DTYPE = np.uint32
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def unsigned(k):
+    """A position k >= 0 in a neighbour list (from its `start` rows, signed) as an unsigned index: the same reason
+    as INDEX_DTYPE, for the loads of the list itself and of arrays aligned with it (1.1-1.2x on the fluid's
+    density and pressure passes, session 12). Only for indexing: unsigned plus signed is a float in Numba."""
+    return np.uint64(k)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -58,7 +70,7 @@ def _bin_sources(cell, ncell):
     for c in range(ncells):
         counts[c + 1] += counts[c]
     fill = counts[:-1].copy()
-    order = np.empty(n, dtype=np.int64)
+    order = np.empty(n, dtype=INDEX_DTYPE)
     for b in range(n):
         order[fill[linear[b]]] = b
         fill[linear[b]] += 1
@@ -266,7 +278,7 @@ class NeighbourList:
                     f"periodic length {self.period[k]:.6g} m along axis {'xyz'[k]} is below twice the "
                     f"neighbour cutoff ({2 * self.cutoff:.6g} m); widen the periodic slab")
         self.start = np.zeros(1, dtype=np.int64)
-        self.index = np.zeros(0, dtype=np.int32)
+        self.index = np.zeros(0, dtype=INDEX_DTYPE)
         self.builds = 0
         self._targets_at_build = None
         self._sources_at_build = None
@@ -278,13 +290,13 @@ class NeighbourList:
         tcell = _cell_coordinates(targets, lo, cell_size, ncell, self.period)
         cell_start, order = _bin_sources(scell, ncell)
         start = np.zeros(len(targets) + 1, dtype=np.int64)
-        dummy = np.zeros(0, dtype=np.int32)
+        dummy = np.zeros(0, dtype=INDEX_DTYPE)
         if self.half and sources is not targets:
             raise ValueError("a half neighbour list needs targets and sources to be the same array")
         _scan_pairs(targets, sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half, start,
                     dummy, False)
         np.cumsum(start, out=start)
-        index = np.empty(start[-1], dtype=np.int32)
+        index = np.empty(start[-1], dtype=INDEX_DTYPE)
         _scan_pairs(targets, sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half, start,
                     index, True)
         self.start, self.index = start, index
