@@ -58,7 +58,7 @@ class StepReport(NamedTuple):
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
                     wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0,
                     c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
-                    moved2, buf, blocks):
+                    moved2, buf, density_buf, blocks):
     """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
     Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
@@ -68,7 +68,7 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
     it = it_start
     while True:
         summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho,
-                          p, p_over_rho2, f_fluid, f_wall, buf, blocks)
+                          p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
         emax, emean = compression_error(rho, rho0)
         err = emean if on_mean else emax
         if it >= min_iterations and err <= tolerance:
@@ -95,6 +95,19 @@ def _largest(x):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _first_above(order, first, end, a):
+    """The first position in order[first:end] (one cell's sources, ascending: the counting sort is stable) whose
+    source is above a (end if none): a half list's row skips the others without looking at them."""
+    while first < end:
+        middle = (first + end) // 2
+        if order[unsigned(middle)] > a:
+            end = middle
+        else:
+            first = middle + 1
+    return first
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2, half, cx, cy,
                  cz, out, slot, capacity):
     """Target a's row: the sources within the cutoff in the 27 cells around it, in cell order (b > a only for a half
@@ -108,10 +121,11 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, pe
         for iy in range(ny):
             for iz in range(nz):
                 lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
-                for s in range(unsigned(cell_start[lid]), unsigned(cell_start[lid + 1])):
+                first, end = cell_start[lid], cell_start[lid + 1]
+                if half:
+                    first = _first_above(order, first, end, a)
+                for s in range(unsigned(first), unsigned(end)):
                     b = order[s]
-                    if half and b <= a:
-                        continue
                     dx = _image(xa - sorted_sources[s, 0], period[0], half_period[0])
                     dy = _image(ya - sorted_sources[s, 1], period[1], half_period[1])
                     dz = _image(za - sorted_sources[s, 2], period[2], half_period[2])
@@ -247,6 +261,7 @@ class FluidSolver:
         self.vel_work = np.zeros((n, 3))
         self.moved2 = np.zeros(n)
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 3))   # per-chunk pair accumulators
+        self.density_buf = np.zeros(self.buf.shape[:2])   # per-chunk density sums
         self.blocks = block_scratch(self.buf.shape[0], DENSITY_BLOCK_COLUMNS)   # per-chunk pair blocks
         self.f_fluid = np.zeros(0)
         self.f_wall = np.zeros(0)
@@ -309,7 +324,7 @@ class FluidSolver:
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
                           self.period, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2, self.f_fluid,
-                          self.f_wall, self.buf, self.blocks)
+                          self.f_wall, self.density_buf, self.blocks)
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
@@ -352,7 +367,7 @@ class FluidSolver:
                 self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
                 wfstart, wfindex, self.period, self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean,
                 self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
-                fl.correction_displacement, self.moved2, self.buf, self.blocks)
+                fl.correction_displacement, self.moved2, self.buf, self.density_buf, self.blocks)
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it

@@ -71,7 +71,7 @@ def test_summation_density_equals_the_sum_over_every_particle():
     rho, p, q = np.zeros(n), np.zeros(n), np.zeros(n)
     f_fluid, f_wall = np.zeros(fluid.pairs), np.zeros(wall_list.pairs)
     summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index, PERIOD,
-                      H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall, np.zeros((CHUNKS, n, 3)),
+                      H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall, np.zeros((CHUNKS, n)),
                       block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
     _, w_ff, _ = _kernel_pairs(_separations(pos, pos))
     _, w_fw, _ = _kernel_pairs(_separations(pos, walls))
