@@ -46,6 +46,16 @@ def _image(d, period, half_period):
     return d
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _pair_to_both(out, b, mb, ma, tx, ty, tz, sx, sy, sz):
+    """A half-list pair's term t_ab given to both particles: returns a's running sums plus m_b t and subtracts
+    m_a t from b's chunk buffer row (t_ba = -t_ab, so the pair conserves momentum)."""
+    out[b, 0] -= ma * tx
+    out[b, 1] -= ma * ty
+    out[b, 2] -= ma * tz
+    return sx + mb * tx, sy + mb * ty, sz + mb * tz
+
+
 # block columns of the density pass (pair_blocks.py)
 _R2, _W, _F = 0, 1, 2
 DENSITY_BLOCK_COLUMNS = 3
@@ -201,13 +211,7 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
                 dx = coef * _image(xa - pos[b, 0], px, hx)
                 dy = coef * _image(ya - pos[b, 1], py, hy)
                 dz = coef * _image(za - pos[b, 2], pz, hz)
-                mb = mass[b]
-                ax += mb * dx
-                ay += mb * dy
-                az += mb * dz
-                out[b, 0] -= ma * dx
-                out[b, 1] -= ma * dy
-                out[b, 2] -= ma * dz
+                ax, ay, az = _pair_to_both(out, b, mass[b], ma, dx, dy, dz, ax, ay, az)
             for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
                 b = windex[k]
                 coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
@@ -294,13 +298,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
                 tx = coef * (vel[a, 0] - vel[b, 0])
                 ty = coef * (vel[a, 1] - vel[b, 1])
                 tz = coef * (vel[a, 2] - vel[b, 2])
-                mb = mass[b]
-                sx += mb * tx
-                sy += mb * ty
-                sz += mb * tz
-                out[b, 0] -= ma * tx
-                out[b, 1] -= ma * ty
-                out[b, 2] -= ma * tz
+                sx, sy, sz = _pair_to_both(out, b, mass[b], ma, tx, ty, tz, sx, sy, sz)
             out[a, 0] += sx
             out[a, 1] += sy
             out[a, 2] += sz
