@@ -37,8 +37,8 @@ from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, _image, apply_displacement, com
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
-from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells,
-                         unsigned)
+from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _bounds, _cell_coordinates, _grid,
+                         _wrapped_cells, unsigned)
 from .pair_blocks import block_scratch
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
@@ -179,6 +179,24 @@ def _fill_rows(targets, sorted_sources, tcell, cell_start, order, ncell, period,
                      cx, cy, cz, index, start[a], start[a + 1])
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _inside_box(points, lo, hi):
+    """Indices (ascending) of the points with lo <= x <= hi on every axis: one pass (NumPy's comparisons and
+    all(axis=1) on (N, 3) arrays, with the bounds' min(axis=0), took 8 ms of a 72 ms rebuild at 10^5 fluid
+    particles)."""
+    keep = np.empty(points.shape[0], dtype=np.int64)
+    count = 0
+    for a in range(points.shape[0]):
+        inside = True
+        for k in range(3):
+            if not (lo[k] <= points[a, k] <= hi[k]):
+                inside = False
+        if inside:
+            keep[count] = a
+            count += 1
+    return keep[:count].copy()
+
+
 class FluidNeighbourList(NeighbourList):
     """NeighbourList whose build scans the candidates once (_scan_into_chunks: sources read in cell order, no floor
     in the minimum image); the same lists in the same order, the same staleness test.
@@ -299,12 +317,13 @@ class FluidSolver:
             # Only wall particles within the cutoff of the water's bounding box can have fluid neighbours; the
             # others would be clamped into the grid's edge cells and scan them for nothing.
             reach = self.wall_fluid_neighbours.cutoff
-            lo, hi = pos.min(axis=0) - reach, pos.max(axis=0) + reach
+            lo, hi = _bounds(pos)
+            lo -= reach
+            hi += reach
             for k in range(3):
                 if self.period[k] > 0.0:
                     lo[k], hi[k] = -np.inf, np.inf
-            near = ((self.wall_pos >= lo) & (self.wall_pos <= hi)).all(axis=1)
-            self.active_walls = np.flatnonzero(near)
+            self.active_walls = _inside_box(self.wall_pos, lo, hi)
             self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos)
             self.wall_p_over_rho2[:] = 0.0
             if len(self.f_wall) < self.wall_neighbours.pairs:

@@ -7,7 +7,7 @@ import pytest
 
 from sph_fsi_core.diagnostics import Diverged
 from sph_fsi_core.fluid_okaji import viscous_velocity
-from sph_fsi_core.fluid_stepper import FluidSolver
+from sph_fsi_core.fluid_stepper import FluidSolver, _inside_box
 from sph_fsi_core.kernels import cubic_spline_w
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import tank
@@ -268,3 +268,19 @@ def test_fluid_neighbour_list_equals_the_general_one(half):
     assert np.array_equal(general.start, small.start) and np.array_equal(general.index, small.index)
     small.build(pos, pos)           # sized from the first build: one scan
     assert small.overflows == 1 and np.array_equal(general.index, small.index)
+
+
+def test_walls_within_reach_are_the_points_inside_the_box_brute_force():
+    """The rebuild's active walls: every point inside [lo, hi] on all three axes, boundaries included, none other,
+    in ascending order; an infinite bound (a periodic axis) takes every coordinate."""
+    rng = np.random.default_rng(7)
+    points = np.round(rng.uniform(-1.0, 1.0, (5000, 3)), 2)   # rounded: many points exactly on the bounds
+    for lo, hi in (([-0.5, -0.2, 0.0], [0.5, 0.3, 0.1]), ([-np.inf, -0.5, -0.5], [np.inf, 0.5, 0.5]),
+                   ([2.0, 2.0, 2.0], [3.0, 3.0, 3.0])):
+        lo, hi = np.array(lo), np.array(hi)
+        expected = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
+        got = _inside_box(points, lo, hi)
+        assert np.array_equal(got, expected)
+        assert len(expected) > 0 or lo[0] == 2.0
+    assert np.sum((points == -0.5).any(axis=1)) > 0
+
