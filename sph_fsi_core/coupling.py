@@ -46,7 +46,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import SUPPORT_RADIUS_IN_H, cubic_spline_wf
-from .neighbours import NeighbourList
+from .neighbours import NeighbourList, unsigned
 from .state import WallState
 
 MODELS = ("seed", "pressure")
@@ -73,7 +73,7 @@ def surface_gradient(pos, volume, start, index, period, h, out):
         gx = 0.0
         gy = 0.0
         gz = 0.0
-        for k in range(start[a], start[a + 1]):
+        for k in range(unsigned(start[a]), unsigned(start[a + 1])):
             b = index[k]
             if b == a:
                 continue
@@ -119,7 +119,7 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
             continue
         nx, ny, nz = normal[a, 0], normal[a, 1], normal[a, 2]
         s = 0.0
-        for k in range(sfstart[a], sfstart[a + 1]):
+        for k in range(unsigned(sfstart[a]), unsigned(sfstart[a + 1])):
             b = sfindex[k]
             dx = _image(solid_pos[a, 0] - fluid_pos[b, 0], period[0])
             dy = _image(solid_pos[a, 1] - fluid_pos[b, 1], period[1])
@@ -145,7 +145,7 @@ def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h,
     for s in prange(solid_pos.shape[0]):
         num = 0.0
         den = 0.0
-        for k in range(sfstart[s], sfstart[s + 1]):
+        for k in range(unsigned(sfstart[s]), unsigned(sfstart[s + 1])):
             f = sfindex[k]
             dx = _image(solid_pos[s, 0] - fluid_pos[f, 0], period[0])
             dy = _image(solid_pos[s, 1] - fluid_pos[f, 1], period[1])
@@ -172,7 +172,7 @@ def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, flu
         fx = 0.0
         fy = 0.0
         fz = 0.0
-        for k in range(sfstart[s], sfstart[s + 1]):
+        for k in range(unsigned(sfstart[s]), unsigned(sfstart[s + 1])):
             a = sfindex[k]
             dx = _image(fluid_pos[a, 0] - solid_pos[s, 0], period[0])
             dy = _image(fluid_pos[a, 1] - solid_pos[s, 1], period[1])
@@ -204,7 +204,7 @@ def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, so
         fx = 0.0
         fy = 0.0
         fz = 0.0
-        for k in range(fsstart[a], fsstart[a + 1]):
+        for k in range(unsigned(fsstart[a]), unsigned(fsstart[a + 1])):
             s = fsindex[k]
             dx = _image(fluid_pos[a, 0] - solid_pos[s, 0], period[0])
             dy = _image(fluid_pos[a, 1] - solid_pos[s, 1], period[1])

@@ -20,7 +20,7 @@ import numpy as np
 from numba import njit
 
 from .kernels import cubic_spline_wf
-from .neighbours import minimum_image
+from .neighbours import minimum_image, unsigned
 
 LANES = 8                  # float64 lanes of an AVX-512 register
 BLOCK = 64                 # pairs per block; longer rows are done in several blocks
@@ -64,7 +64,7 @@ def gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho,
     pad_block(block, m, SEPARATION, FAR_IN_H * h, SEPARATION + 1, NEIGHBOUR_DENSITY, 0.0)
     pad_block(block, m, NEIGHBOUR_DENSITY, 1.0, 0, 0, 0.0)
     for j in range(m):
-        b = index[lo + j]
+        b = index[unsigned(lo + j)]
         block[SEPARATION * STRIDE + j] = xa - pos[b, 0]
         block[(SEPARATION + 1) * STRIDE + j] = ya - pos[b, 1]
         block[(SEPARATION + 2) * STRIDE + j] = za - pos[b, 2]
@@ -79,7 +79,7 @@ def gather_tensors(block, col, index, lo, m, tensors):
     """b's symmetric tensor (six components, tensors[b]) of pairs lo..lo+m-1 into the columns col..col+5, zeros
     for the padding; written out (a loop over the components measured 7-14 % slower in the momentum passes)."""
     for j in range(m):
-        b = index[lo + j]
+        b = index[unsigned(lo + j)]
         block[col * STRIDE + j] = tensors[b, 0]
         block[(col + 1) * STRIDE + j] = tensors[b, 1]
         block[(col + 2) * STRIDE + j] = tensors[b, 2]

@@ -28,7 +28,7 @@ linear (fewer than three layers) have zero Hessian rows and no correction.
 import numpy as np
 from numba import njit, prange
 
-from .neighbours import chunk_first_target, inverse_periods, minimum_image
+from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
@@ -116,7 +116,7 @@ def velocity_hessian(pos, period, volume, vel, start, index, h, rows, w, hessian
             va = volume[a]
             zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             mx = my = mz = zero    # particle a's moments, one 9-tuple per velocity component
-            for s in range(start[a], start[a + 1]):
+            for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 if w[s] == 0.0:
                     continue
                 b = index[s]

@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
-from .neighbours import chunk_first_target, inverse_periods, minimum_image
+from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
 from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
@@ -74,7 +74,7 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index
             x0 = x1 = x2 = 0.0
             l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
             k00 = k01 = k02 = k11 = k12 = k22 = 0.0
-            for s in range(start[a], start[a + 1]):
+            for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
                 vb = volume[b]
                 fs = f[s]
@@ -212,7 +212,7 @@ def continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf):
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = volume[a]
             da = 0.0
-            for s in range(start[a], start[a + 1]):
+            for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
                 rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
                 ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
@@ -529,7 +529,7 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
                     gather_tensors(block, _R_B, index, lo, m, art_stress)
                 if correct_gradient:
                     for j in range(m):
-                        b = index[lo + j]
+                        b = index[unsigned(lo + j)]
                         for k in range(9):
                             block[(_K_B + k) * STRIDE + j] = kinv[b, k // 3, k % 3]
                     pad_block(block, m, _K_B, 0.0, _K_B + 1, _K_B + 9, 0.0)
@@ -539,7 +539,7 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
                                      sigma, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
                                      correct_gradient)
                 for j in range(m):
-                    s = lo + j
+                    s = unsigned(lo + j)
                     w[s] = block[_W * STRIDE + j]
                     f[s] = block[_F * STRIDE + j]
                     b = index[s]

@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
-from .neighbours import chunk_first_target, inverse_periods, minimum_image
+from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
 from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .solid_gradient_integration import basis_dot, quadratic_monomials
@@ -129,7 +129,7 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
         p = np.empty(N_BASIS)
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = mass[a] / rho[a]
-            for s in range(start[a], start[a + 1]):
+            for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
                 ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
                 _basis(ux, uy, uz, p)
@@ -216,7 +216,7 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
             # particle a's sums stay in registers; only b's go through the chunk buffer
             xa = ya = za = 0.0
             lxx = lxy = lxz = lyx = lyy = lyz = lzx = lzy = lzz = 0.0
-            for s in range(start[a], start[a + 1]):
+            for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
                 dvx = vel[b, 0] - vel[a, 0]
                 dvy = vel[b, 1] - vel[a, 1]
@@ -275,7 +275,7 @@ def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
     inv_h = 1.0 / h
     for a in prange(pos.shape[0]):
         va = mass[a] / rho[a]
-        for s in range(start[a], start[a + 1]):
+        for s in range(unsigned(start[a]), unsigned(start[a + 1])):
             b = index[s]
             ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
             _store_pair_weights(rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
@@ -440,7 +440,7 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
                 m = min(BLOCK, start[a + 1] - lo)
                 gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho, h)
                 for j in range(m):
-                    block[_MASS_B * STRIDE + j] = mass[index[lo + j]]
+                    block[_MASS_B * STRIDE + j] = mass[index[unsigned(lo + j)]]
                 pad_block(block, m, _MASS_B, 0.0, 0, 0, 0.0)
                 if art_exponent > 0:
                     gather_tensors(block, _R_B, index, lo, m, art_stress)
@@ -450,7 +450,7 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
                                 gradient_integration else rows[a], mass[a], rho[a], ka, inv_h, sigma_k, h, eta2,
                                 sound_speed, alpha, beta, art_exponent, inv_w_dp, gradient_integration)
                 for j in range(m):
-                    s = lo + j
+                    s = unsigned(lo + j)
                     if block[_R2 * STRIDE + j] >= support2:   # in the list's skin, outside the kernel: idle
                         w[s] = 0.0
                         f[s] = 0.0
