@@ -340,18 +340,28 @@ def integer_power(x, n):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def viscous_and_artificial_stress_terms(vr, rho_a, rho_b, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent,
-                                        inv_w_dp, rxx, ryy, rzz, rxy, rxz, ryz):
-    """The pair's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ).
+def viscous_and_artificial_stress_terms(block, j, col_r, ra, rho_a, rx, ry, rz, r2, wab, h, eta2, sound_speed,
+                                        alpha, beta, art_exponent, inv_w_dp):
+    """Pair j's -Pi_ab I + R_ab f_ab^n in eq. (5)'s bracket, as (XX, YY, ZZ, XY, XZ, YZ), for both momentum passes.
 
-    vr = (v_a - v_b) . (r_a - r_b); R_ab = R_a + R_b given as its six components (used when art_exponent > 0).
+    From the pair's block columns (pair_blocks.py): v_a - v_b and rho_b (the motion columns) and R_b (six columns
+    from col_r, read when art_exponent > 0); r_a - r_b = (rx, ry, rz), r2 its square; ra: R_a as six numbers.
     """
+    vr = (block[VELOCITY_DIFFERENCE * STRIDE + j] * rx + block[(VELOCITY_DIFFERENCE + 1) * STRIDE + j] * ry
+          + block[(VELOCITY_DIFFERENCE + 2) * STRIDE + j] * rz)
+    rho_b = block[NEIGHBOUR_DENSITY * STRIDE + j]
     txy = txz = tyz = 0.0
     # branch-free (receding pairs give mu = 0): approaching and receding pairs alternate unpredictably
     mu = h * (vr if vr < 0.0 else 0.0) / (r2 + eta2)   # min(vr, 0) as a select (kernels.positive_part)
     pi_ab = (-alpha * sound_speed * mu + beta * mu * mu) / (0.5 * (rho_a + rho_b))
     txx = tyy = tzz = -pi_ab
     if art_exponent > 0:
+        rxx = ra[0] + block[(col_r + XX) * STRIDE + j]
+        ryy = ra[1] + block[(col_r + YY) * STRIDE + j]
+        rzz = ra[2] + block[(col_r + ZZ) * STRIDE + j]
+        rxy = ra[3] + block[(col_r + XY) * STRIDE + j]
+        rxz = ra[4] + block[(col_r + XZ) * STRIDE + j]
+        ryz = ra[5] + block[(col_r + YZ) * STRIDE + j]
         ratio = wab * inv_w_dp
         if art_exponent == 4:   # Gray's n, the default: two multiplications
             fn = ratio * ratio
@@ -369,8 +379,6 @@ def viscous_and_artificial_stress_terms(vr, rho_a, rho_b, r2, wab, h, eta2, soun
 
 # block columns of the momentum pass (pair_blocks.py): the pair's motion, b's tensors, then the pair's results
 _RX, _RY, _RZ = SEPARATION, SEPARATION + 1, SEPARATION + 2
-_DVX, _DVY, _DVZ = VELOCITY_DIFFERENCE, VELOCITY_DIFFERENCE + 1, VELOCITY_DIFFERENCE + 2
-_RHO_B = NEIGHBOUR_DENSITY
 (_S_B, _R_B, _K_B, _GX, _GY, _GZ, _W, _F) = (MOTION_COLUMNS, MOTION_COLUMNS + 6, MOTION_COLUMNS + 12,
                                              MOTION_COLUMNS + 21, MOTION_COLUMNS + 22, MOTION_COLUMNS + 23,
                                              MOTION_COLUMNS + 24, MOTION_COLUMNS + 25)
@@ -383,7 +391,6 @@ def _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_spe
     """Pair j of a block in _momentum_pair_block; sa, ra, ka: particle a's sigma / rho^2, R_a and K_a^-1 as tuples
     (values kept in registers)."""
     sa0, sa1, sa2, sa3, sa4, sa5 = sa
-    ra0, ra1, ra2, ra3, ra4, ra5 = ra
     k00, k01, k02, k10, k11, k12, k20, k21, k22 = ka
     rx = block[_RX * STRIDE + j]
     ry = block[_RY * STRIDE + j]
@@ -430,12 +437,8 @@ def _momentum_pair(block, j, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sound_spe
         txy = sa3 + sb3
         txz = sa4 + sb4
         tyz = sa5 + sb5
-    vr = (block[_DVX * STRIDE + j] * rx + block[_DVY * STRIDE + j] * ry + block[_DVZ * STRIDE + j] * rz)
     pxx, pyy, pzz, pxy, pxz, pyz = viscous_and_artificial_stress_terms(
-        vr, rho_a, block[_RHO_B * STRIDE + j], r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
-        ra0 + block[(_R_B + XX) * STRIDE + j], ra1 + block[(_R_B + YY) * STRIDE + j],
-        ra2 + block[(_R_B + ZZ) * STRIDE + j], ra3 + block[(_R_B + XY) * STRIDE + j],
-        ra4 + block[(_R_B + XZ) * STRIDE + j], ra5 + block[(_R_B + YZ) * STRIDE + j])
+        block, j, _R_B, ra, rho_a, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp)
     txx += pxx
     tyy += pyy
     tzz += pzz

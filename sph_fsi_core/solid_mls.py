@@ -30,7 +30,7 @@ from numba import njit, prange
 
 from .kernels import cubic_spline_w, cubic_spline_wf
 from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
-from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
+from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .solid_gradient_integration import basis_dot, quadratic_monomials
 from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
@@ -290,7 +290,6 @@ def velocity_divergence_rate(rho, grad_v, drho):
 
 # block columns of the momentum pass (pair_blocks.py): the pair's motion, b's mass and R_b, then the pair's results
 _RX, _RY, _RZ = SEPARATION, SEPARATION + 1, SEPARATION + 2
-_DVX, _DVY, _DVZ = VELOCITY_DIFFERENCE, VELOCITY_DIFFERENCE + 1, VELOCITY_DIFFERENCE + 2
 _RHO_B = NEIGHBOUR_DENSITY
 (_MASS_B, _R_B, _R2, _W, _F, _G_AB, _F_A, _F_AV, _F_GRAD_A) = tuple(MOTION_COLUMNS + k for k in (0, 1, 7, 8, 9, 10,
                                                                                                13, 16, 19))
@@ -311,7 +310,6 @@ def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, 
     """Pair j of a block in _mls_pair_block; rows_a, sa, ra: particle a's fit rows, sigma / rho^2 and R_a as
     tuples (values kept in registers)."""
     sa0, sa1, sa2, sa3, sa4, sa5 = sa
-    ra0, ra1, ra2, ra3, ra4, ra5 = ra
     rx = block[_RX * STRIDE + j]
     ry = block[_RY * STRIDE + j]
     rz = block[_RZ * STRIDE + j]
@@ -333,12 +331,8 @@ def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, 
     block[_F_A * STRIDE + j] = ka * (sa0 * gab0 + sa3 * gab1 + sa4 * gab2)
     block[(_F_A + 1) * STRIDE + j] = ka * (sa3 * gab0 + sa1 * gab1 + sa5 * gab2)
     block[(_F_A + 2) * STRIDE + j] = ka * (sa4 * gab0 + sa5 * gab1 + sa2 * gab2)
-    vr = (block[_DVX * STRIDE + j] * rx + block[_DVY * STRIDE + j] * ry + block[_DVZ * STRIDE + j] * rz)
     txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(
-        vr, rho_a, block[_RHO_B * STRIDE + j], r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
-        ra0 + block[(_R_B + XX) * STRIDE + j], ra1 + block[(_R_B + YY) * STRIDE + j],
-        ra2 + block[(_R_B + ZZ) * STRIDE + j], ra3 + block[(_R_B + XY) * STRIDE + j],
-        ra4 + block[(_R_B + XZ) * STRIDE + j], ra5 + block[(_R_B + YZ) * STRIDE + j])
+        block, j, _R_B, ra, rho_a, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp)
     mm = mass_a * block[_MASS_B * STRIDE + j]
     gx = fab * rx
     gy = fab * ry
