@@ -18,8 +18,8 @@ times its relative compression, so what sets the iteration's stability and speed
 fluid.correction_coefficient = 0 (the default) takes c = kappa h / dt with kappa = fluid.correction_kappa, so the
 iteration behaves the same at any dt; a positive value fixes c in m/s (then a large dt can make it unstable).
 
-Neighbour lists: fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall pressure; only wall particles within
-reach of the water's bounding box), cutoff 2h + skin, built at r* when some particle has moved more than half the
+Neighbour lists (fluid_neighbours.py): fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall
+pressure; only wall particles within reach of the water's bounding box), cutoff 2h + skin, built at r* when some particle has moved more than half the
 skin since the last build and reused by every iteration of the step (and by later steps while valid); every
 position correction measures how far particles have moved since the build, and the loop returns for a rebuild
 mid-step if one may have crossed half the skin.
@@ -31,14 +31,14 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
-from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, _image, apply_displacement, compression_error, gravity_and_predictor,
+from .fluid_neighbours import FluidNeighbourList, _inside_box
+from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
-from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _bounds, _cell_coordinates, _grid,
-                         _wrapped_cells, unsigned)
+from .neighbours import INDEX_DTYPE, _bounds
 from .pair_blocks import block_scratch
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
@@ -94,161 +94,6 @@ def _largest(x):
     return m
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _first_above(order, first, end, a):
-    """The first position in order[first:end] (one cell's sources, ascending: the counting sort is stable) whose
-    source is above a (end if none): a half list's row skips the others without looking at them."""
-    while first < end:
-        middle = (first + end) // 2
-        if order[unsigned(middle)] > a:
-            end = middle
-        else:
-            first = middle + 1
-    return first
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2, half, cx, cy,
-                 cz, out, slot, capacity):
-    """Target a's row: the sources within the cutoff in the 27 cells around it, in cell order (b > a only for a half
-    list), written to out[slot:] while slot stays below `capacity`; returns the row's length (all of it)."""
-    nx = _wrapped_cells(tcell[a, 0], ncell[0], period[0] > 0.0, cx)
-    ny = _wrapped_cells(tcell[a, 1], ncell[1], period[1] > 0.0, cy)
-    nz = _wrapped_cells(tcell[a, 2], ncell[2], period[2] > 0.0, cz)
-    xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
-    count = 0
-    for ix in range(nx):
-        for iy in range(ny):
-            for iz in range(nz):
-                lid = (cx[ix] * ncell[1] + cy[iy]) * ncell[2] + cz[iz]
-                first, end = cell_start[lid], cell_start[lid + 1]
-                if half:
-                    first = _first_above(order, first, end, a)
-                for s in range(unsigned(first), unsigned(end)):
-                    b = order[s]
-                    dx = _image(xa - sorted_sources[s, 0], period[0], half_period[0])
-                    dy = _image(ya - sorted_sources[s, 1], period[1], half_period[1])
-                    dz = _image(za - sorted_sources[s, 2], period[2], half_period[2])
-                    if dx * dx + dy * dy + dz * dz < cutoff2:
-                        if slot + count < capacity:
-                            out[slot + count] = b
-                        count += 1
-    return count
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, counts, buffers,
-                      used):
-    """One scan over the candidate pairs (neighbours._scan_pairs with the sources' positions in cell order and a
-    division-free minimum image, fluid_okaji._image: the fluid's positions are wrapped into the periodic box after
-    every step and move less than the skin within one, so one shift by the period is always enough).
-
-    Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c] and their
-    lengths to counts[a + 1]; used[c] = the length of all its rows, more than the buffer holds if it overflowed
-    (the counts are right either way)."""
-    n = targets.shape[0]
-    chunks = buffers.shape[0]
-    capacity = buffers.shape[1]
-    cutoff2 = cutoff * cutoff
-    half_period = 0.5 * period
-    for c in prange(chunks):
-        cx = np.empty(3, dtype=np.int64)
-        cy = np.empty(3, dtype=np.int64)
-        cz = np.empty(3, dtype=np.int64)
-        out = buffers[c]
-        slot = 0
-        for a in range((n * c) // chunks, (n * (c + 1)) // chunks):
-            k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2,
-                             half, cx, cy, cz, out, slot, capacity)
-            counts[a + 1] = k
-            slot += k
-        used[c] = slot
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _fill_rows(targets, sorted_sources, tcell, cell_start, order, ncell, period, cutoff, half, start, index):
-    """The same scan writing each row into index[start[a]:start[a + 1]] (after a chunk buffer overflowed)."""
-    n = targets.shape[0]
-    cutoff2 = cutoff * cutoff
-    half_period = 0.5 * period
-    for a in prange(n):
-        cx = np.empty(3, dtype=np.int64)
-        cy = np.empty(3, dtype=np.int64)
-        cz = np.empty(3, dtype=np.int64)
-        _scan_target(a, targets, sorted_sources, tcell, cell_start, order, ncell, period, half_period, cutoff2, half,
-                     cx, cy, cz, index, start[a], start[a + 1])
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _inside_box(points, lo, hi):
-    """Indices (ascending) of the points with lo <= x <= hi on every axis: one pass (NumPy's comparisons and
-    all(axis=1) on (N, 3) arrays, with the bounds' min(axis=0), took 8 ms of a 72 ms rebuild at 10^5 fluid
-    particles)."""
-    keep = np.empty(points.shape[0], dtype=np.int64)
-    count = 0
-    for a in range(points.shape[0]):
-        inside = True
-        for k in range(3):
-            if not (lo[k] <= points[a, k] <= hi[k]):
-                inside = False
-        if inside:
-            keep[count] = a
-            count += 1
-    return keep[:count].copy()
-
-
-class FluidNeighbourList(NeighbourList):
-    """NeighbourList whose build scans the candidates once (_scan_into_chunks: sources read in cell order, no floor
-    in the minimum image); the same lists in the same order, the same staleness test.
-
-    Each thread's rows go to a buffer sized from the previous build (a quarter more than its largest chunk, at
-    least PAIRS_PER_TARGET_GUESS per target on the first build) and are copied into place; a chunk that overflows
-    its buffer costs one more scan (_fill_rows), with the exact row lengths the first one counted. (Until session
-    11 every build scanned twice: once to count, once to fill.)"""
-
-    PAIRS_PER_TARGET_GUESS = 48
-
-    def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
-        self._buffers = np.zeros((0, 0), dtype=INDEX_DTYPE)
-        self.overflows = 0
-
-    def build(self, targets, sources):
-        if self.half and sources is not targets:
-            raise ValueError("a half neighbour list needs targets and sources to be the same array")
-        lo, cell_size, ncell = _grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
-        scell = _cell_coordinates(sources, lo, cell_size, ncell, self.period)
-        tcell = scell if sources is targets else _cell_coordinates(targets, lo, cell_size, ncell, self.period)
-        cell_start, order = _bin_sources(scell, ncell)
-        sorted_sources = np.ascontiguousarray(sources[order])
-        n = len(targets)
-        chunks = max(numba.get_num_threads(), 1)
-        if self._buffers.shape[0] != chunks:
-            per_chunk = (n + chunks - 1) // chunks
-            self._buffers = np.empty((chunks, per_chunk * self.PAIRS_PER_TARGET_GUESS + 64), dtype=INDEX_DTYPE)
-        start = np.zeros(n + 1, dtype=np.int64)
-        used = np.zeros(chunks, dtype=np.int64)
-        _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
-                          start, self._buffers, used)
-        np.cumsum(start, out=start)
-        index = np.empty(start[-1], dtype=INDEX_DTYPE)
-        if used.max() <= self._buffers.shape[1]:
-            for c in range(chunks):
-                first = start[(n * c) // chunks]
-                index[first:first + used[c]] = self._buffers[c, :used[c]]
-        else:
-            self.overflows += 1
-            _fill_rows(targets, sorted_sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half,
-                       start, index)
-        wanted = int(1.25 * used.max()) + 64
-        if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
-            self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)
-        self.start, self.index = start, index
-        self._targets_at_build = targets.copy()
-        self._sources_at_build = None if sources is targets else sources.copy()
-        self.builds += 1
-
-
 class FluidSolver:
     """The fluid's work arrays, neighbour lists and settings; `step(dt)` advances the fluid by one step."""
 
@@ -264,7 +109,9 @@ class FluidSolver:
         # half list: each fluid pair once (fluid_okaji.py), which halves the pair work of every pass and the build
         self.fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
                                                    half=True)
-        self.wall_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        # the fixed walls' grid is made once (with a solid in the boundary it moves and is remade)
+        self.wall_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
+                                                  keep_grid_while_sources_stay=True)
         self.wall_fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
         self.wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         self.wall_mass = walls.mass if walls is not None else np.zeros(0)
@@ -324,7 +171,9 @@ class FluidSolver:
                 if self.period[k] > 0.0:
                     lo[k], hi[k] = -np.inf, np.inf
             self.active_walls = _inside_box(self.wall_pos, lo, hi)
-            self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos)
+            # the fluid's grid, just made by the half list's build
+            self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos,
+                                             grid=self.fluid_neighbours.grid)
             self.wall_p_over_rho2[:] = 0.0
             if len(self.f_wall) < self.wall_neighbours.pairs:
                 self.f_wall = np.zeros(int(1.25 * self.wall_neighbours.pairs) + 16)

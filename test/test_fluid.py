@@ -7,7 +7,7 @@ import pytest
 
 from sph_fsi_core.diagnostics import Diverged
 from sph_fsi_core.fluid_okaji import viscous_velocity
-from sph_fsi_core.fluid_stepper import FluidSolver, _inside_box
+from sph_fsi_core.fluid_stepper import FluidSolver
 from sph_fsi_core.kernels import cubic_spline_w
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import tank
@@ -233,54 +233,3 @@ def test_periodic_or_closed_span_and_refusals():
         load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.span_layers=5"])
     with pytest.raises(SceneError, match="geometry.wall_layers"):
         load_scene("dam_break", ["numerics.spacing=0.005715", "geometry.wall_layers=2"])
-
-
-@pytest.mark.parametrize("half", [True, False])
-def test_fluid_neighbour_list_equals_the_general_one(half):
-    """The fluid's list builder (sources in cell order, division-free minimum image) gives exactly the general
-    NeighbourList's rows, on a jittered periodic block with particles a little outside the box."""
-    from sph_fsi_core.fluid_stepper import FluidNeighbourList
-    from sph_fsi_core.neighbours import NeighbourList
-    fluid, period = _periodic_block(9, jitter=0.3, seed=3)
-    period[0] = period[2] = 0.0
-    pos = fluid.pos
-    pos[:5, 1] -= 0.2 * DP        # a little below the periodic box's start
-    cutoff_args = (2.0 * H, 0.1 * H)
-    general = NeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period, half=half)
-    fast = FluidNeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period, half=half)
-    general.build(pos, pos)
-    fast.build(pos, pos)
-    assert general.pairs > 10 * len(pos) and np.array_equal(general.start, fast.start)
-    assert np.array_equal(general.index, fast.index)
-    walls = tank.lattice(9, 9, 2, DP, offset=(0.0, 0.0, -2 * DP))
-    general.half = fast.half = False
-    general.build(pos, walls)
-    fast.build(pos, walls)
-    assert general.pairs > 0 and np.array_equal(general.start, fast.start)
-    assert np.array_equal(general.index, fast.index)
-    # a first build whose per-thread buffers are far too small scans again and gives the same rows
-    small = FluidNeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period, half=half)
-    small.PAIRS_PER_TARGET_GUESS = 1
-    small.build(pos, pos)
-    general.half = half
-    general.build(pos, pos)
-    assert small.overflows == 1
-    assert np.array_equal(general.start, small.start) and np.array_equal(general.index, small.index)
-    small.build(pos, pos)           # sized from the first build: one scan
-    assert small.overflows == 1 and np.array_equal(general.index, small.index)
-
-
-def test_walls_within_reach_are_the_points_inside_the_box_brute_force():
-    """The rebuild's active walls: every point inside [lo, hi] on all three axes, boundaries included, none other,
-    in ascending order; an infinite bound (a periodic axis) takes every coordinate."""
-    rng = np.random.default_rng(7)
-    points = np.round(rng.uniform(-1.0, 1.0, (5000, 3)), 2)   # rounded: many points exactly on the bounds
-    for lo, hi in (([-0.5, -0.2, 0.0], [0.5, 0.3, 0.1]), ([-np.inf, -0.5, -0.5], [np.inf, 0.5, 0.5]),
-                   ([2.0, 2.0, 2.0], [3.0, 3.0, 3.0])):
-        lo, hi = np.array(lo), np.array(hi)
-        expected = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
-        got = _inside_box(points, lo, hi)
-        assert np.array_equal(got, expected)
-        assert len(expected) > 0 or lo[0] == 2.0
-    assert np.sum((points == -0.5).any(axis=1)) > 0
-
