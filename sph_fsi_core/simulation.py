@@ -253,8 +253,8 @@ class Simulation:
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
                            nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
-                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
-                           self.clamp_mirror, s.stress_gradient, wk.force_rows, wk.blocks)
+                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.vector_buf, wk.kinv, wk.mls_rows,
+                           wk.mls_weights, self.clamp_mirror, s.stress_gradient, wk.force_rows, wk.blocks)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -353,7 +353,7 @@ class Simulation:
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
                                wk.force_rows, wk.hessian_moments, wk.turn, wk.fit_refresh, wk.blocks,
-                               wk.volume)
+                               wk.volume, wk.vector_buf, wk.scalar_buf)
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid()

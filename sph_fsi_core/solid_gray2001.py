@@ -200,15 +200,16 @@ def continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf):
     """Eq. (3): d rho_a/dt = rho_a sum_b (m_b/rho_b) (vhat_a - vhat_b) . grad_a W_ab.
 
     Half list: the pair's (vhat_a - vhat_b) . grad_a W_ab is the same seen from b, so it adds V_b times it to a's
-    sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient). volume: V = m / rho per
-    particle, divided once per step rather than once per pair (solid_stepper.particle_volumes).
+    sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient, here (chunks, N): a column
+    of the wide buffer would pull all of it through the cache for one number per particle). volume: V = m / rho
+    per particle, divided once per step rather than once per pair (solid_stepper.particle_volumes).
     """
     inv_period = inverse_periods(period)
     n = vhat.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
-        out[:, 0] = 0.0
+        out[:] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = volume[a]
             da = 0.0
@@ -220,12 +221,12 @@ def continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf):
                 d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
                             + (vhat[a, 2] - vhat[b, 2]) * rz)
                 da += volume[b] * d
-                out[b, 0] += va * d
-            out[a, 0] += da
+                out[b] += va * d
+            out[a] += da
     for a in prange(n):
         acc = 0.0
         for c in range(chunks):
-            acc += buf[c, a, 0]
+            acc += buf[c, a]
         drho[a] = rho[a] * acc
 
 

@@ -84,12 +84,16 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
 class SolidWork:
     """Scratch arrays of the solid passes, allocated once per build.
 
-    `buf` (chunks, N, 18): per-chunk accumulators of the half-list passes, one chunk per thread; `blocks`: their
-    pair blocks (pair_blocks.py).
+    Per-chunk accumulators of the half-list passes, one chunk per thread: `buf` (chunks, N, 18) for the velocity
+    gradient passes, `vector_buf` (chunks, N, 3) for the momentum passes and `scalar_buf` (chunks, N) for the
+    continuity pass (each pass zeroes and sums only its own numbers: three columns of the wide buffer moved all
+    of it through the cache); `blocks`: their pair blocks (pair_blocks.py).
     """
 
     def __init__(self, n, hessian_rows=False):
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 18))
+        self.vector_buf = np.zeros(self.buf.shape[:2] + (3,))
+        self.scalar_buf = np.zeros(self.buf.shape[:2])
         self.blocks = block_scratch(self.buf.shape[0], max(GRAY_BLOCK_COLUMNS, MLS_BLOCK_COLUMNS))
         self.vhat = np.zeros((n, 3))
         self.volume = np.zeros(n)           # m / rho, once per step (particle_volumes)
@@ -200,7 +204,7 @@ def _max_norm(v):
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
                    period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
                    w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
-                   force_rows, hessian_moments, turn, fit_refresh, blocks, volume):
+                   force_rows, hessian_moments, turn, fit_refresh, blocks, volume, vector_buf, scalar_buf):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -230,7 +234,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps, vhat,
                                        grad_v, buf, prm.gradient_order == 1, kinv)
         if prm.gradient_order == 0:
-            continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf)
+            continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, scalar_buf)
         else:
             # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
             velocity_divergence_rate(rho, grad_v, drho)
@@ -255,7 +259,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 for k in range(3):
                     pos[a, k] -= dt * vhat[clamp_mirror[a], k]
         solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                           prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
+                           prm, sigma_over_rho2, art_stress, eig_work, w, f, vector_buf, kinv, mls_rows, mls_weights,
                            clamp_mirror, stress_gradient, force_rows, blocks)
         for a in range(n):
             if movable[a]:
