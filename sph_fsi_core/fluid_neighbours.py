@@ -91,6 +91,13 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_
     return count
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _stencil_scratch():
+    """A thread's scratch for _scan_target: the cells around a target along x, y, z and their squared gaps."""
+    return (np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64), np.empty(3, dtype=np.int64), np.empty(3),
+            np.empty(3), np.empty(3))
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, cutoff, half,
                       counts, buffers, used):
@@ -107,12 +114,7 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
     cutoff2 = cutoff * cutoff
     half_period = 0.5 * period
     for c in prange(chunks):
-        cx = np.empty(3, dtype=np.int64)
-        cy = np.empty(3, dtype=np.int64)
-        cz = np.empty(3, dtype=np.int64)
-        gx = np.empty(3)
-        gy = np.empty(3)
-        gz = np.empty(3)
+        cx, cy, cz, gx, gy, gz = _stencil_scratch()
         out = buffers[c]
         slot = 0
         for a in range((n * c) // chunks, (n * (c + 1)) // chunks):
@@ -131,12 +133,7 @@ def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size,
     cutoff2 = cutoff * cutoff
     half_period = 0.5 * period
     for a in prange(n):
-        cx = np.empty(3, dtype=np.int64)
-        cy = np.empty(3, dtype=np.int64)
-        cz = np.empty(3, dtype=np.int64)
-        gx = np.empty(3)
-        gy = np.empty(3)
-        gz = np.empty(3)
+        cx, cy, cz, gx, gy, gz = _stencil_scratch()
         _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, half_period,
                      cutoff2, half, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1])
 
