@@ -197,14 +197,13 @@ class FluidNeighbourList(NeighbourList):
         self.grid = None
         self.grid_builds = 0
         self._keep_grid = bool(keep_grid_while_sources_stay)
-        self._grid_sources = None
 
     def _grid_for(self, sources):
-        if self._keep_grid and self._grid_sources is not None and np.array_equal(self._grid_sources, sources):
+        # the staleness test's copy of the last build's sources tells whether they have moved since
+        if self._keep_grid and self._sources_at_build is not None and np.array_equal(self._sources_at_build,
+                                                                                        sources):
             return self.grid
         self.grid_builds += 1
-        if self._keep_grid:
-            self._grid_sources = sources.copy()
         return source_grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
 
     def build(self, targets, sources, grid=None):

@@ -19,10 +19,10 @@ fluid.correction_coefficient = 0 (the default) takes c = kappa h / dt with kappa
 iteration behaves the same at any dt; a positive value fixes c in m/s (then a large dt can make it unstable).
 
 Neighbour lists (fluid_neighbours.py): fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall
-pressure; only wall particles within reach of the water's bounding box), cutoff 2h + skin, built at r* when some particle has moved more than half the
-skin since the last build and reused by every iteration of the step (and by later steps while valid); every
-position correction measures how far particles have moved since the build, and the loop returns for a rebuild
-mid-step if one may have crossed half the skin.
+pressure; only wall particles within reach of the water's bounding box), cutoff 2h + skin, built at r* when some
+particle has moved more than half the skin since the last build and reused by every iteration of the step (and by
+later steps while valid); every position correction measures how far particles have moved since the build, and the
+loop returns for a rebuild mid-step if one may have crossed half the skin.
 
 Pressure output: FluidState.pressure is the sum of the step's iteration pressures (fluid_okaji.py's docstring).
 """

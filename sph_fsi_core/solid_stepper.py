@@ -154,9 +154,10 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
-                       prm, sigma_over_rho2, art_stress, eig_work, w, f, buf, kinv, mls_rows, mls_weights,
+                       prm, sigma_over_rho2, art_stress, eig_work, w, f, vector_buf, kinv, mls_rows, mls_weights,
                        clamp_mirror, stress_gradient, force_rows, blocks):
-    """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions."""
+    """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions;
+    `vector_buf` (chunks, N, 3): the momentum pass's per-chunk sums (SolidWork)."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
@@ -165,10 +166,10 @@ def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_
             gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
         momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
                           prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
-                          mls_weights, buf, force_rows, blocks)
+                          mls_weights, vector_buf, force_rows, blocks)
     else:
         momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
-                      prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, buf,
+                      prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, vector_buf,
                       prm.gradient_order == 1, kinv, blocks)
     fold_clamp_forces(acc, mass, body, clamp_mirror)
     has_ext = ext_acc.shape[0] == acc.shape[0]

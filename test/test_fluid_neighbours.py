@@ -76,9 +76,10 @@ def test_walls_within_reach_are_the_points_inside_the_box_brute_force():
 @pytest.mark.parametrize("period_in_dp", [(0, 0, 0), (0, 5.4, 0), (0, 9, 0), (9, 9, 0)])
 def test_cells_out_of_reach_hide_no_neighbour(period_in_dp):
     """The scan skips cells whose gap to the target exceeds the cutoff; on a lattice whose points sit on the cell
-    faces (cell size = cutoff = 2 dp here) and on jittered points, with targets far outside the grid (clamped
-    into its edge cells) on open axes, on open axes only, a periodic axis of 2 cells (no skipping) and of 4 cells, every row holds
-    exactly the brute-force set, for the half list and for a full list between two sets."""
+    faces (cell size = cutoff = 2 dp here) and on jittered points, with targets far outside the grid along open
+    axes (clamped into its edge cells), with all axes open, a periodic axis of 2 cells (no skipping) and of 4
+    cells, and two periodic axes, every row holds exactly the brute-force set, for the half list and for a full
+    list between two sets."""
     period = np.array(period_in_dp, dtype=float) * DP
     cutoff = 2.0 * DP
     lattice = tank.lattice(9, 9, 6, DP)
