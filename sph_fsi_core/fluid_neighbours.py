@@ -13,7 +13,7 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from .fluid_okaji import _image
+from .fluid_okaji import _separation, xz_periodic_marker
 from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells,
                          unsigned)
 
@@ -58,11 +58,11 @@ def _neighbour_cells(x, lo, size, c, n, periodic, cells, gaps2):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, half_period,
-                 cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity):
+                 cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity, on_x, on_y, on_z):
     """Target a's row: the sources within the cutoff in the 27 cells around it, in cell order (b > a only for a half
     list), written to out[slot:] while slot stays below `capacity`; returns the row's length (all of it). Cells
     out of reach are skipped (_neighbour_cells; the margin keeps a source on a cell's face from being lost to
-    round-off)."""
+    round-off). on_x, on_y, on_z: the axes to take the minimum image on (constants: fluid_okaji.xz_periodic_marker)."""
     xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
     nx = _neighbour_cells(xa, lo[0], cell_size[0], tcell[a, 0], ncell[0], period[0] > 0.0, cx, gx)
     ny = _neighbour_cells(ya, lo[1], cell_size[1], tcell[a, 1], ncell[1], period[1] > 0.0, cy, gy)
@@ -81,9 +81,9 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_
                     first = _first_above(order, first, end, a)
                 for s in range(unsigned(first), unsigned(end)):
                     b = order[s]
-                    dx = _image(xa - sorted_sources[s, 0], period[0], half_period[0])
-                    dy = _image(ya - sorted_sources[s, 1], period[1], half_period[1])
-                    dz = _image(za - sorted_sources[s, 2], period[2], half_period[2])
+                    dx = _separation(xa - sorted_sources[s, 0], period[0], half_period[0], on_x)
+                    dy = _separation(ya - sorted_sources[s, 1], period[1], half_period[1], on_y)
+                    dz = _separation(za - sorted_sources[s, 2], period[2], half_period[2], on_z)
                     if dx * dx + dy * dy + dz * dz < cutoff2:
                         if slot + count < capacity:
                             out[slot + count] = b
@@ -99,11 +99,12 @@ def _stencil_scratch():
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, cutoff, half,
-                      counts, buffers, used):
+def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic,
+                      cutoff, half, counts, buffers, used):
     """One scan over the candidate pairs (neighbours._scan_pairs with the sources' positions in cell order and a
     division-free minimum image, fluid_okaji._image: the fluid's positions are wrapped into the periodic box after
-    every step and move less than the skin within one, so one shift by the period is always enough).
+    every step and move less than the skin within one, so one shift by the period is always enough), along y only
+    unless `xz_periodic` (fluid_okaji.xz_periodic_marker).
 
     Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c] and their
     lengths to counts[a + 1]; used[c] = the length of all its rows, more than the buffer holds if it overflowed
@@ -118,24 +119,36 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
         out = buffers[c]
         slot = 0
         for a in range((n * c) // chunks, (n * (c + 1)) // chunks):
-            k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
-                             half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity)
+            if xz_periodic is None:
+                k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
+                                 half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity, False, True,
+                                 False)
+            else:
+                k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
+                                 half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity, True, True,
+                                 True)
             counts[a + 1] = k
             slot += k
         used[c] = slot
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, cutoff, half, start,
-               index):
+def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic, cutoff,
+               half, start, index):
     """The same scan writing each row into index[start[a]:start[a + 1]] (after a chunk buffer overflowed)."""
     n = targets.shape[0]
     cutoff2 = cutoff * cutoff
     half_period = 0.5 * period
     for a in prange(n):
         cx, cy, cz, gx, gy, gz = _stencil_scratch()
-        _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, half_period,
-                     cutoff2, half, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1])
+        if xz_periodic is None:
+            _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
+                         half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1], False, True,
+                         False)
+        else:
+            _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
+                         half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1], True, True,
+                         True)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -222,7 +235,8 @@ class FluidNeighbourList(NeighbourList):
         start = np.zeros(n + 1, dtype=np.int64)
         used = np.zeros(chunks, dtype=np.int64)
         _scan_into_chunks(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                          self.period, self.cutoff, self.half, start, self._buffers, used)
+                          self.period, xz_periodic_marker(self.period), self.cutoff, self.half, start, self._buffers,
+                          used)
         np.cumsum(start, out=start)
         index = np.empty(start[-1], dtype=INDEX_DTYPE)
         if used.max() <= self._buffers.shape[1]:
@@ -232,7 +246,7 @@ class FluidNeighbourList(NeighbourList):
         else:
             self.overflows += 1
             _fill_rows(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                       self.period, self.cutoff, self.half, start, index)
+                       self.period, xz_periodic_marker(self.period), self.cutoff, self.half, start, index)
         wanted = int(1.25 * used.max()) + 64
         if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
             self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)

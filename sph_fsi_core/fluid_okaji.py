@@ -4,7 +4,8 @@ Each function is one pass over the fluid particles (targets) and their neighbour
 list (each pair once, b > a, the particle's own pair not listed), evaluated once per pair and added to both
 particles through per-chunk buffers `buf` (chunks, N, 3) (no write races under prange; a second loop sums the
 chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. The step driver
-that calls them in order is fluid_stepper.py.
+that calls them in order is fluid_stepper.py. Their `xz_periodic` argument (xz_periodic_marker) says whether the
+pair loops take the minimum image along y only or along every axis.
 
 Choices where the paper is open (docs/method.md, "Fluid"):
 
@@ -46,6 +47,25 @@ def _image(d, period, half_period):
     return d
 
 
+def xz_periodic_marker(period):
+    """The passes' `xz_periodic` argument for a period: None when neither x nor z is periodic (the scenes' spanwise
+    slabs, periodic along y, and scenes with no periodic axis), True otherwise.
+
+    The branches of _image cost the pressure pass 1.2-1.3x even on an axis that is not periodic, so the pair loops
+    take the minimum image along y only unless this says otherwise. Numba compiles a function once per argument
+    type and drops an `if xz_periodic is None` branch that cannot be taken, so a run compiles only its own rows."""
+    return None if (period[0] <= 0.0 and period[2] <= 0.0) else True
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _separation(d, period, half_period, periodic):
+    """d through _image when `periodic` (a constant at every call site, so the test compiles away), d itself
+    otherwise. (_image returns d on an axis that is not periodic, so both give the same bits there.)"""
+    if periodic:
+        return _image(d, period, half_period)
+    return d
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _pair_to_both(out, b, mb, ma, tx, ty, tz, sx, sy, sz):
     """A half-list pair's term t_ab given to both particles: returns a's running sums plus m_b t and subtracts
@@ -63,17 +83,18 @@ DENSITY_BLOCK_COLUMNS = 3
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_period, h, inv_h, sigma, block,
-                 f_cache, scatter_mass, out):
+                 f_cache, scatter_mass, out, on_x, on_y, on_z):
     """Eq. (1)'s sum over one neighbour row (index[k0:k1] into src_pos), in blocks: returns s + sum_b m_b W_ab
     (added in the row's order) and leaves F_ab in f_cache[k0:k1]; with scatter_mass > 0 (a half list of the fluid)
-    also adds scatter_mass W_ab to out[b]. Pairs in the list's skin give W = F = 0 and change no sum."""
+    also adds scatter_mass W_ab to out[b]. Pairs in the list's skin give W = F = 0 and change no sum. on_x, on_y,
+    on_z: the axes to take the minimum image on (constants, _separation)."""
     for lo in range(k0, k1, BLOCK):
         m = min(BLOCK, k1 - lo)
         for j in range(m):
             b = index[unsigned(lo + j)]
-            dx = _image(xa - src_pos[b, 0], period[0], half_period[0])
-            dy = _image(ya - src_pos[b, 1], period[1], half_period[1])
-            dz = _image(za - src_pos[b, 2], period[2], half_period[2])
+            dx = _separation(xa - src_pos[b, 0], period[0], half_period[0], on_x)
+            dy = _separation(ya - src_pos[b, 1], period[1], half_period[1], on_y)
+            dz = _separation(za - src_pos[b, 2], period[2], half_period[2], on_z)
             block[_R2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
         pad_block(block, m, _R2, (FAR_IN_H * h) ** 2, 0, 0, 0.0)
         kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma)
@@ -87,9 +108,22 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
     return s
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, half_period, h, inv_h,
+                    sigma, block, f_fluid, f_wall, out, on_x, on_y, on_z):
+    """Target a's density sum: its own pair, its fluid row (scattered to b as well) and its wall row."""
+    xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+    ma = mass[a]
+    s = ma * sigma
+    s = _density_row(s, xa, ya, za, pos, mass, findex, fstart[a], fstart[a + 1], period, half_period, h, inv_h,
+                     sigma, block, f_fluid, ma, out, on_x, on_y, on_z)
+    return _density_row(s, xa, ya, za, wall_pos, wall_mass, windex, wstart[a], wstart[a + 1], period, half_period,
+                        h, inv_h, sigma, block, f_wall, 0.0, out, on_x, on_y, on_z)
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho, p,
-                      p_over_rho2, f_fluid, f_wall, density_buf, blocks):
+def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, h, rho0, c2,
+                      rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks):
     """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions (own pair included,
     W(0) = 1 / (pi h^3)); then, per particle, eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0),
     and p_a / rho_a^2 for eq. (2).
@@ -112,13 +146,12 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
         for a in range(n):
             out[a] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
-            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-            ma = mass[a]
-            s = ma * sigma
-            s = _density_row(s, xa, ya, za, pos, mass, findex, fstart[a], fstart[a + 1], period, half_period, h,
-                              inv_h, sigma, block, f_fluid, ma, out)
-            s = _density_row(s, xa, ya, za, wall_pos, wall_mass, windex, wstart[a], wstart[a + 1], period,
-                              half_period, h, inv_h, sigma, block, f_wall, 0.0, out)
+            if xz_periodic is None:
+                s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
+                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, False, True, False)
+            else:
+                s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
+                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, True, True, True)
             out[a] += s
     for a in prange(n):
         s = 0.0
@@ -148,34 +181,76 @@ def compression_error(rho, rho0):
     return largest, (total / n if n > 0 else 0.0)
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma, on_x, on_y, on_z):
+    """(sum_f p_f W_wf, sum_f W_wf) over row i of the wall->fluid list, that of wall particle w."""
+    num = 0.0
+    den = 0.0
+    for k in range(wfstart[i], wfstart[i + 1]):
+        f = wfindex[k]
+        dx = _separation(wall_pos[w, 0] - pos[f, 0], period[0], half_period[0], on_x)
+        dy = _separation(wall_pos[w, 1] - pos[f, 1], period[1], half_period[1], on_y)
+        dz = _separation(wall_pos[w, 2] - pos[f, 2], period[2], half_period[2], on_z)
+        kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+        num += p[f] * kern
+        den += kern
+    return num, den
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2):
+def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, h, rho0, wall_p_over_rho2):
     """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
     (0 without any), stored as p_w / rho0^2, for the `active` wall particles (those within reach of the water;
     row i of the wall->fluid list belongs to wall particle active[i]). The others have no fluid neighbour and
     keep p_w = 0, at no cost."""
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
-    px, py, pz = period[0], period[1], period[2]
-    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
+    half_period = 0.5 * period
     for i in prange(active.shape[0]):
         w = active[i]
-        num = 0.0
-        den = 0.0
-        for k in range(wfstart[i], wfstart[i + 1]):
-            f = wfindex[k]
-            dx = _image(wall_pos[w, 0] - pos[f, 0], px, hx)
-            dy = _image(wall_pos[w, 1] - pos[f, 1], py, hy)
-            dz = _image(wall_pos[w, 2] - pos[f, 2], pz, hz)
-            kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
-            num += p[f] * kern
-            den += kern
+        if xz_periodic is None:
+            num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
+                                    False, True, False)
+        else:
+            num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
+                                    True, True, True)
         wall_p_over_rho2[w] = num / den / (rho0 * rho0) if den > 0.0 else 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
+                     wstart, windex, f_wall, period, half_period, out, on_x, on_y, on_z):
+    """Target a's sum over its fluid row (each term also given to b in `out`) and its wall row, for eq. (2)."""
+    xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+    qa = p_over_rho2[a]
+    ma = mass[a]
+    px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = half_period[0], half_period[1], half_period[2]
+    ax = 0.0
+    ay = 0.0
+    az = 0.0
+    # every pair, also those with no pressure or in the skin (coef = 0 adds zeros): a test per pair measured 1.2x
+    # slower, its branch taken at random
+    for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):
+        b = findex[k]
+        coef = (qa + p_over_rho2[b]) * f_fluid[k]
+        dx = coef * _separation(xa - pos[b, 0], px, hx, on_x)
+        dy = coef * _separation(ya - pos[b, 1], py, hy, on_y)
+        dz = coef * _separation(za - pos[b, 2], pz, hz, on_z)
+        ax, ay, az = _pair_to_both(out, b, mass[b], ma, dx, dy, dz, ax, ay, az)
+    for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
+        b = windex[k]
+        coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
+        if coef != 0.0:
+            ax += coef * _separation(xa - wall_pos[b, 0], px, hx, on_x)
+            ay += coef * _separation(ya - wall_pos[b, 1], py, hy, on_y)
+            az += coef * _separation(za - wall_pos[b, 2], pz, hz, on_z)
+    return ax, ay, az
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
-                          wstart, windex, f_wall, period, dt2, disp, accumulated, buf):
+                          wstart, windex, f_wall, period, xz_periodic, dt2, disp, accumulated, buf):
     """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
 
         dv_a/dt = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab,    grad_a W_ab = F_ab (r_a - r_b),
@@ -188,8 +263,7 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
     """
     n = pos.shape[0]
     chunks = buf.shape[0]
-    px, py, pz = period[0], period[1], period[2]
-    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
+    half_period = 0.5 * period
     for c in prange(chunks):
         out = buf[c]
         for a in range(n):
@@ -197,28 +271,14 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
             out[a, 1] = 0.0
             out[a, 2] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
-            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-            qa = p_over_rho2[a]
-            ma = mass[a]
-            ax = 0.0
-            ay = 0.0
-            az = 0.0
-            # every pair, also those with no pressure or in the skin (coef = 0 adds zeros): a test per pair measured
-            # 1.2x slower, its branch taken at random
-            for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):
-                b = findex[k]
-                coef = (qa + p_over_rho2[b]) * f_fluid[k]
-                dx = coef * _image(xa - pos[b, 0], px, hx)
-                dy = coef * _image(ya - pos[b, 1], py, hy)
-                dz = coef * _image(za - pos[b, 2], pz, hz)
-                ax, ay, az = _pair_to_both(out, b, mass[b], ma, dx, dy, dz, ax, ay, az)
-            for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
-                b = windex[k]
-                coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
-                if coef != 0.0:
-                    ax += coef * _image(xa - wall_pos[b, 0], px, hx)
-                    ay += coef * _image(ya - wall_pos[b, 1], py, hy)
-                    az += coef * _image(za - wall_pos[b, 2], pz, hz)
+            if xz_periodic is None:
+                ax, ay, az = _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
+                                              wall_p_over_rho2, wstart, windex, f_wall, period, half_period, out,
+                                              False, True, False)
+            else:
+                ax, ay, az = _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
+                                              wall_p_over_rho2, wstart, windex, f_wall, period, half_period, out,
+                                              True, True, True)
             out[a, 0] += ax
             out[a, 1] += ay
             out[a, 2] += az
@@ -259,8 +319,34 @@ def velocity_from_displacement(pos, pos_old, dt, vel):
             vel[a, k] = (pos[a, k] - pos_old[a, k]) * inv_dt
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu, eta2, out, on_x, on_y,
+                    on_z):
+    """Target a's sum of eq. (9) over its fluid row, each term also given to b in `out`."""
+    xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+    mua = rho[a] * nu
+    ma = mass[a]
+    px, py, pz = period[0], period[1], period[2]
+    hx, hy, hz = half_period[0], half_period[1], half_period[2]
+    sx = 0.0
+    sy = 0.0
+    sz = 0.0
+    for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):   # pairs in the skin add zeros
+        b = findex[k]
+        dx = _separation(xa - pos[b, 0], px, hx, on_x)
+        dy = _separation(ya - pos[b, 1], py, hy, on_y)
+        dz = _separation(za - pos[b, 2], pz, hz, on_z)
+        r2 = dx * dx + dy * dy + dz * dz
+        coef = (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
+        tx = coef * (vel[a, 0] - vel[b, 0])
+        ty = coef * (vel[a, 1] - vel[b, 1])
+        tz = coef * (vel[a, 2] - vel[b, 2])
+        sx, sy, sz = _pair_to_both(out, b, mass[b], ma, tx, ty, tz, sx, sy, sz)
+    return sx, sy, sz
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu, dt, vel_out, buf):
+def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_periodic, h, nu, dt, vel_out, buf):
     """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
 
         v_a = v*_a + dt sum_b m_b (mu_a + mu_b) / (rho_a rho_b) (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab,
@@ -273,8 +359,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
     n = pos.shape[0]
     chunks = buf.shape[0]
     eta2 = 0.01 * h * h
-    px, py, pz = period[0], period[1], period[2]
-    hx, hy, hz = 0.5 * px, 0.5 * py, 0.5 * pz
+    half_period = 0.5 * period
     for c in prange(chunks):
         out = buf[c]
         for a in range(n):
@@ -282,23 +367,12 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, h, nu
             out[a, 1] = 0.0
             out[a, 2] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
-            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-            mua = rho[a] * nu
-            ma = mass[a]
-            sx = 0.0
-            sy = 0.0
-            sz = 0.0
-            for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):   # pairs in the skin add zeros
-                b = findex[k]
-                dx = _image(xa - pos[b, 0], px, hx)
-                dy = _image(ya - pos[b, 1], py, hy)
-                dz = _image(za - pos[b, 2], pz, hz)
-                r2 = dx * dx + dy * dy + dz * dz
-                coef = (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
-                tx = coef * (vel[a, 0] - vel[b, 0])
-                ty = coef * (vel[a, 1] - vel[b, 1])
-                tz = coef * (vel[a, 2] - vel[b, 2])
-                sx, sy, sz = _pair_to_both(out, b, mass[b], ma, tx, ty, tz, sx, sy, sz)
+            if xz_periodic is None:
+                sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
+                                             eta2, out, False, True, False)
+            else:
+                sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
+                                             eta2, out, True, True, True)
             out[a, 0] += sx
             out[a, 1] += sy
             out[a, 2] += sz

@@ -36,7 +36,7 @@ from numba import njit
 from .fluid_neighbours import FluidNeighbourList, _inside_box
 from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
-                          wall_pressure, wrap_periodic)
+                          wall_pressure, wrap_periodic, xz_periodic_marker)
 from .kernels import SUPPORT_RADIUS_IN_H
 from .neighbours import INDEX_DTYPE, _bounds
 from .pair_blocks import block_scratch
@@ -56,8 +56,8 @@ class StepReport(NamedTuple):
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
-                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, h, rho0,
-                    c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
+                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, xz_periodic,
+                    h, rho0, c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
                     moved2, buf, density_buf, blocks):
     """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
@@ -67,8 +67,8 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
     """
     it = it_start
     while True:
-        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, h, rho0, c2, rho,
-                          p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
+        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, h, rho0,
+                          c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
         emax, emean = compression_error(rho, rho0)
         err = emean if on_mean else emax
         if it >= min_iterations and err <= tolerance:
@@ -76,9 +76,10 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
         if it >= max_iterations:
             return it, emax, emean, CAPPED
         if wall_pos.shape[0] > 0:
-            wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, h, rho0, wall_p_over_rho2)
+            wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, h, rho0, wall_p_over_rho2)
         pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
-                              wall_p_over_rho2, wstart, windex, f_wall, period, dt2, disp, accumulated, buf)
+                              wall_p_over_rho2, wstart, windex, f_wall, period, xz_periodic, dt2, disp, accumulated,
+                              buf)
         apply_displacement(pos, disp, total, pos_at_build, moved2)
         it += 1
         if _largest(moved2) > half_skin * half_skin:
@@ -102,6 +103,7 @@ class FluidSolver:
         self.walls = walls
         self.h = float(h)
         self.period = np.asarray(period, dtype=np.float64)
+        self.xz_periodic = xz_periodic_marker(self.period)
         self.box_lo = np.asarray(box_lo if box_lo is not None else np.zeros(3), dtype=np.float64)
         n = fluid.count
         radius = SUPPORT_RADIUS_IN_H * self.h
@@ -191,8 +193,8 @@ class FluidSolver:
         fl, nb = self.fluid, self.fluid_neighbours
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
-                          self.period, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2, self.f_fluid,
-                          self.f_wall, self.density_buf, self.blocks)
+                          self.period, self.xz_periodic, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2,
+                          self.f_fluid, self.f_wall, self.density_buf, self.blocks)
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
@@ -233,8 +235,8 @@ class FluidSolver:
             it, emax, emean, status = correction_loop(
                 it, fl.pos, fl.mass, fl.rho, self.p, self.p_over_rho2, fl.pressure, nb.start, nb.index, self.f_fluid,
                 self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
-                wfstart, wfindex, self.period, self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean,
-                self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
+                wfstart, wfindex, self.period, self.xz_periodic, self.h, self.rho0, c * c, dt * dt, self.tolerance,
+                self.on_mean, self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
                 fl.correction_displacement, self.moved2, self.buf, self.density_buf, self.blocks)
             if status != NEEDS_REBUILD:
                 break
@@ -244,8 +246,8 @@ class FluidSolver:
             rebuilds += 1
         velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
         if self.nu > 0.0:
-            viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period, self.h,
-                             self.nu, dt, self.vel_work, self.buf)
+            viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period,
+                             self.xz_periodic, self.h, self.nu, dt, self.vel_work, self.buf)
             fl.vel[:] = self.vel_work
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)

@@ -66,7 +66,7 @@ def test_fluid_viscous_pass_does_not_depend_on_the_chunks(chunks):
     out = {}
     for c in (1, chunks):
         out[c] = np.zeros_like(vel)
-        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, NO_PERIOD, H, 1e-4, 1e-4, out[c],
+        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, NO_PERIOD, None, H, 1e-4, 1e-4, out[c],
                          np.zeros((c, len(pos), 3)))
     change = out[1] - vel
     assert np.abs(change).max() > 0.0

@@ -9,7 +9,7 @@ one axis is periodic, so the minimum-image and several-block paths are exercised
 import numpy as np
 import pytest
 
-from sph_fsi_core.fluid_okaji import DENSITY_BLOCK_COLUMNS, summation_density
+from sph_fsi_core.fluid_okaji import DENSITY_BLOCK_COLUMNS, summation_density, xz_periodic_marker
 from sph_fsi_core.kernels import cubic_spline_f, cubic_spline_w
 from sph_fsi_core.neighbours import NeighbourList
 from sph_fsi_core.pair_blocks import BLOCK, block_scratch
@@ -59,7 +59,10 @@ def _half_list(pos):
     return nl
 
 
-def test_summation_density_equals_the_sum_over_every_particle():
+@pytest.mark.parametrize("xz_periodic", [None, True])
+def test_summation_density_equals_the_sum_over_every_particle(xz_periodic):
+    """Both compilations of the pass (minimum image along y only, fluid_okaji.xz_periodic_marker(PERIOD), or along
+    every axis) against brute force; they give the same bits."""
     pos, rng = _cloud()
     n = len(pos)
     mass = rng.uniform(0.9, 1.1, n) * 1e-6
@@ -71,7 +74,7 @@ def test_summation_density_equals_the_sum_over_every_particle():
     rho, p, q = np.zeros(n), np.zeros(n), np.zeros(n)
     f_fluid, f_wall = np.zeros(fluid.pairs), np.zeros(wall_list.pairs)
     summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index, PERIOD,
-                      H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall, np.zeros((CHUNKS, n)),
+                      xz_periodic, H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall, np.zeros((CHUNKS, n)),
                       block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
     _, w_ff, _ = _kernel_pairs(_separations(pos, pos))
     _, w_fw, _ = _kernel_pairs(_separations(pos, walls))
@@ -84,6 +87,13 @@ def test_summation_density_equals_the_sum_over_every_particle():
         r = np.sqrt((d * d).sum(-1))
         f_ref = np.array([cubic_spline_f(x, H) if x < 2 * H else 0.0 for x in r])
         assert np.abs(cache[:nl.pairs] - f_ref).max() < 1e-12 * np.abs(f_ref).max()
+    if xz_periodic is None:
+        assert xz_periodic_marker(PERIOD) is None
+        other = np.zeros(n)
+        summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index,
+                          PERIOD, True, H, 1000.0, 1.0, other, p, q, np.zeros(fluid.pairs), np.zeros(wall_list.pairs),
+                          np.zeros((CHUNKS, n)), block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
+        assert np.array_equal(other, rho)
 
 
 def _solid_state(pos, rng):
