@@ -58,17 +58,20 @@ def _neighbour_cells(x, lo, size, c, n, periodic, cells, gaps2):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, half_period,
-                 cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity, on_x, on_y, on_z):
+                 cutoff2, half, near_y, cx, cy, cz, gx, gy, gz, out, slot, capacity, on_x, on_y, on_z):
     """Target a's row: the sources within the cutoff in the 27 cells around it, in cell order (b > a only for a half
-    list), written to out[slot:] while slot stays below `capacity`; returns the row's length (all of it). Cells
-    out of reach are skipped (_neighbour_cells; the margin keeps a source on a cell's face from being lost to
-    round-off). on_x, on_y, on_z: the axes to take the minimum image on (constants: fluid_okaji.xz_periodic_marker)."""
+    list), written to out[slot:] while slot stays below `capacity`; returns (the row's length, all of it, and
+    whether any of its pairs is `near_y` or farther apart along y as stored, before the minimum image: see
+    FluidNeighbourList.crossing). Cells out of reach are skipped (_neighbour_cells; the margin keeps a source on a
+    cell's face from being lost to round-off). on_x, on_y, on_z: the axes to take the minimum image on (constants:
+    fluid_okaji.xz_periodic_marker)."""
     xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
     nx = _neighbour_cells(xa, lo[0], cell_size[0], tcell[a, 0], ncell[0], period[0] > 0.0, cx, gx)
     ny = _neighbour_cells(ya, lo[1], cell_size[1], tcell[a, 1], ncell[1], period[1] > 0.0, cy, gy)
     nz = _neighbour_cells(za, lo[2], cell_size[2], tcell[a, 2], ncell[2], period[2] > 0.0, cz, gz)
     reach2 = cutoff2 * (1.0 + 1e-9)
     count = 0
+    crosses = False
     for ix in range(nx):
         for iy in range(ny):
             gxy = gx[ix] + gy[iy]
@@ -82,13 +85,16 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_
                 for s in range(unsigned(first), unsigned(end)):
                     b = order[s]
                     dx = _separation(xa - sorted_sources[s, 0], period[0], half_period[0], on_x)
-                    dy = _separation(ya - sorted_sources[s, 1], period[1], half_period[1], on_y)
+                    stored_dy = ya - sorted_sources[s, 1]
+                    dy = _separation(stored_dy, period[1], half_period[1], on_y)
                     dz = _separation(za - sorted_sources[s, 2], period[2], half_period[2], on_z)
                     if dx * dx + dy * dy + dz * dz < cutoff2:
                         if slot + count < capacity:
                             out[slot + count] = b
                         count += 1
-    return count
+                        if abs(stored_dy) >= near_y:
+                            crosses = True
+    return count, crosses
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -100,15 +106,15 @@ def _stencil_scratch():
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic,
-                      cutoff, half, counts, buffers, used):
+                      cutoff, half, near_y, counts, crossing, buffers, used):
     """One scan over the candidate pairs (neighbours._scan_pairs with the sources' positions in cell order and a
     division-free minimum image, fluid_okaji._image: the fluid's positions are wrapped into the periodic box after
     every step and move less than the skin within one, so one shift by the period is always enough), along y only
     unless `xz_periodic` (fluid_okaji.xz_periodic_marker).
 
-    Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c] and their
-    lengths to counts[a + 1]; used[c] = the length of all its rows, more than the buffer holds if it overflowed
-    (the counts are right either way)."""
+    Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c], their
+    lengths to counts[a + 1] and their near_y flags (_scan_target) to crossing[a]; used[c] = the length of all its
+    rows, more than the buffer holds if it overflowed (the counts are right either way)."""
     n = targets.shape[0]
     chunks = buffers.shape[0]
     capacity = buffers.shape[1]
@@ -120,21 +126,22 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
         slot = 0
         for a in range((n * c) // chunks, (n * (c + 1)) // chunks):
             if xz_periodic is None:
-                k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
-                                 half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity, False, True,
-                                 False)
+                k, crosses = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell,
+                                          period, half_period, cutoff2, half, near_y, cx, cy, cz, gx, gy, gz, out,
+                                          slot, capacity, False, True, False)
             else:
-                k = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
-                                 half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, out, slot, capacity, True, True,
-                                 True)
+                k, crosses = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell,
+                                          period, half_period, cutoff2, half, near_y, cx, cy, cz, gx, gy, gz, out,
+                                          slot, capacity, True, True, True)
             counts[a + 1] = k
+            crossing[a] = crosses
             slot += k
         used[c] = slot
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic, cutoff,
-               half, start, index):
+               half, near_y, start, index):
     """The same scan writing each row into index[start[a]:start[a + 1]] (after a chunk buffer overflowed)."""
     n = targets.shape[0]
     cutoff2 = cutoff * cutoff
@@ -143,12 +150,12 @@ def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size,
         cx, cy, cz, gx, gy, gz = _stencil_scratch()
         if xz_periodic is None:
             _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
-                         half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1], False, True,
-                         False)
+                         half_period, cutoff2, half, near_y, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1],
+                         False, True, False)
         else:
             _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
-                         half_period, cutoff2, half, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1], True, True,
-                         True)
+                         half_period, cutoff2, half, near_y, cx, cy, cz, gx, gy, gz, index, start[a], start[a + 1],
+                         True, True, True)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -199,7 +206,12 @@ class FluidNeighbourList(NeighbourList):
 
     The source grid of the last build is kept (`grid`): another list over the same sources at the same moment
     can scan it (`build(..., grid=...)`). With `keep_grid_while_sources_stay`, a build whose sources are where
-    they were at the last build (compared to the bit) reuses its grid: the fixed walls of a fluid-only scene."""
+    they were at the last build (compared to the bit) reuses its grid: the fixed walls of a fluid-only scene.
+
+    `crossing[a]`: row a holds a pair at least half the y period less 1.1 skins apart along y as stored. Until the
+    next build every target and source stays within half the skin of where it was (the staleness test; the
+    periodic wrap moves a particle by a period and so forces a build), so the pairs of the other rows stay at most
+    half the period apart as stored, and the minimum image leaves them alone: the fluid's passes skip it there."""
 
     PAIRS_PER_TARGET_GUESS = 48
 
@@ -210,6 +222,10 @@ class FluidNeighbourList(NeighbourList):
         self.grid = None
         self.grid_builds = 0
         self._keep_grid = bool(keep_grid_while_sources_stay)
+        # pairs this far apart along y as stored may need the minimum image before the next build (`crossing`;
+        # 10 % more than the skin, so that round-off in the staleness test cannot matter)
+        self.near_y = 0.5 * self.period[1] - 1.1 * self.skin if self.period[1] > 0.0 else np.inf
+        self.crossing = np.zeros(0, dtype=np.bool_)
 
     def _grid_for(self, sources):
         # the staleness test's copy of the last build's sources tells whether they have moved since
@@ -234,9 +250,10 @@ class FluidNeighbourList(NeighbourList):
             self._buffers = np.empty((chunks, per_chunk * self.PAIRS_PER_TARGET_GUESS + 64), dtype=INDEX_DTYPE)
         start = np.zeros(n + 1, dtype=np.int64)
         used = np.zeros(chunks, dtype=np.int64)
+        crossing = np.zeros(n, dtype=np.bool_)
         _scan_into_chunks(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                          self.period, xz_periodic_marker(self.period), self.cutoff, self.half, start, self._buffers,
-                          used)
+                          self.period, xz_periodic_marker(self.period), self.cutoff, self.half, self.near_y, start,
+                          crossing, self._buffers, used)
         np.cumsum(start, out=start)
         index = np.empty(start[-1], dtype=INDEX_DTYPE)
         if used.max() <= self._buffers.shape[1]:
@@ -246,11 +263,12 @@ class FluidNeighbourList(NeighbourList):
         else:
             self.overflows += 1
             _fill_rows(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                       self.period, xz_periodic_marker(self.period), self.cutoff, self.half, start, index)
+                       self.period, xz_periodic_marker(self.period), self.cutoff, self.half, self.near_y, start,
+                       index)
         wanted = int(1.25 * used.max()) + 64
         if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
             self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)
-        self.start, self.index = start, index
+        self.start, self.index, self.crossing = start, index, crossing
         self.grid = g
         self._targets_at_build = targets.copy()
         self._sources_at_build = None if sources is targets else sources.copy()

@@ -5,7 +5,9 @@ list (each pair once, b > a, the particle's own pair not listed), evaluated once
 particles through per-chunk buffers `buf` (chunks, N, 3) (no write races under prange; a second loop sums the
 chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. The step driver
 that calls them in order is fluid_stepper.py. Their `xz_periodic` argument (xz_periodic_marker) says whether the
-pair loops take the minimum image along y only or along every axis.
+pair loops take the minimum image along y only or along every axis; along y only, a target whose `crossing` flag
+is off (fluid_neighbours.FluidNeighbourList.crossing: its pairs stay within half a period of each other as
+stored) skips it too, which gives the same bits.
 
 Choices where the paper is open (docs/method.md, "Fluid"):
 
@@ -122,8 +124,8 @@ def _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, w
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, h, rho0, c2,
-                      rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks):
+def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, crossing, h,
+                      rho0, c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks):
     """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions (own pair included,
     W(0) = 1 / (pi h^3)); then, per particle, eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0),
     and p_a / rho_a^2 for eq. (2).
@@ -146,12 +148,15 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
         for a in range(n):
             out[a] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
-            if xz_periodic is None:
+            if xz_periodic is not None:
+                s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
+                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, True, True, True)
+            elif crossing[a]:
                 s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
                                     half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, False, True, False)
             else:
                 s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
-                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, True, True, True)
+                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, False, False, False)
             out[a] += s
     for a in prange(n):
         s = 0.0
@@ -198,7 +203,8 @@ def _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, 
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, h, rho0, wall_p_over_rho2):
+def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, crossing, h, rho0,
+                  wall_p_over_rho2):
     """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
     (0 without any), stored as p_w / rho0^2, for the `active` wall particles (those within reach of the water;
     row i of the wall->fluid list belongs to wall particle active[i]). The others have no fluid neighbour and
@@ -208,12 +214,15 @@ def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodi
     half_period = 0.5 * period
     for i in prange(active.shape[0]):
         w = active[i]
-        if xz_periodic is None:
+        if xz_periodic is not None:
+            num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
+                                    True, True, True)
+        elif crossing[i]:
             num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
                                     False, True, False)
         else:
             num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
-                                    True, True, True)
+                                    False, False, False)
         wall_p_over_rho2[w] = num / den / (rho0 * rho0) if den > 0.0 else 0.0
 
 
@@ -248,7 +257,7 @@ def _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_po
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
-                          wstart, windex, f_wall, period, xz_periodic, dt2, disp, accumulated, buf):
+                          wstart, windex, f_wall, period, xz_periodic, crossing, dt2, disp, accumulated, buf):
     """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
 
         dv_a/dt = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab,    grad_a W_ab = F_ab (r_a - r_b),
@@ -269,14 +278,18 @@ def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wa
             out[a, 1] = 0.0
             out[a, 2] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
-            if xz_periodic is None:
+            if xz_periodic is not None:
+                ax, ay, az = _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
+                                              wall_p_over_rho2, wstart, windex, f_wall, period, half_period, out,
+                                              True, True, True)
+            elif crossing[a]:
                 ax, ay, az = _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
                                               wall_p_over_rho2, wstart, windex, f_wall, period, half_period, out,
                                               False, True, False)
             else:
                 ax, ay, az = _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
                                               wall_p_over_rho2, wstart, windex, f_wall, period, half_period, out,
-                                              True, True, True)
+                                              False, False, False)
             out[a, 0] += ax
             out[a, 1] += ay
             out[a, 2] += az
@@ -342,7 +355,8 @@ def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, hal
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_periodic, h, nu, dt, vel_out, buf):
+def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_periodic, crossing, h, nu, dt, vel_out,
+                     buf):
     """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
 
         v_a = v*_a + dt sum_b m_b (mu_a + mu_b) / (rho_a rho_b) (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab,
@@ -363,12 +377,15 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_pe
             out[a, 1] = 0.0
             out[a, 2] = 0.0
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
-            if xz_periodic is None:
+            if xz_periodic is not None:
+                sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
+                                             eta2, out, True, True, True)
+            elif crossing[a]:
                 sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
                                              eta2, out, False, True, False)
             else:
                 sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
-                                             eta2, out, True, True, True)
+                                             eta2, out, False, False, False)
             out[a, 0] += sx
             out[a, 1] += sy
             out[a, 2] += sz

@@ -57,8 +57,8 @@ class StepReport(NamedTuple):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
                     wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, xz_periodic,
-                    h, rho0, c2, dt2, tolerance, on_mean, min_iterations, max_iterations, pos_at_build, half_skin, disp, total,
-                    moved2, buf, density_buf, blocks):
+                    crossing, wall_crossing, h, rho0, c2, dt2, tolerance, on_mean, min_iterations, max_iterations,
+                    pos_at_build, half_skin, disp, total, moved2, buf, density_buf, blocks):
     """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
 
     Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
@@ -67,8 +67,8 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
     """
     it = it_start
     while True:
-        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, h, rho0,
-                          c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
+        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, crossing,
+                          h, rho0, c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
         emax, emean = compression_error(rho, rho0)
         err = emean if on_mean else emax
         if it >= min_iterations and err <= tolerance:
@@ -76,10 +76,11 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
         if it >= max_iterations:
             return it, emax, emean, CAPPED
         if wall_pos.shape[0] > 0:
-            wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, h, rho0, wall_p_over_rho2)
+            wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, wall_crossing, h, rho0,
+                          wall_p_over_rho2)
         pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
-                              wall_p_over_rho2, wstart, windex, f_wall, period, xz_periodic, dt2, disp, accumulated,
-                              buf)
+                              wall_p_over_rho2, wstart, windex, f_wall, period, xz_periodic, crossing, dt2, disp,
+                              accumulated, buf)
         apply_displacement(pos, disp, total, pos_at_build, moved2)
         it += 1
         if _largest(moved2) > half_skin * half_skin:
@@ -159,6 +160,8 @@ class FluidSolver:
     def rebuild(self):
         pos = self.fluid.pos
         self.fluid_neighbours.build(pos, pos)
+        self.crossing = self.fluid_neighbours.crossing
+        self.wall_crossing = np.zeros(0, dtype=np.bool_)
         if len(self.f_fluid) < self.fluid_neighbours.pairs:
             self.f_fluid = np.zeros(int(1.25 * self.fluid_neighbours.pairs) + 16)
         if self.walls is not None:
@@ -176,6 +179,9 @@ class FluidSolver:
             # the fluid's grid, just made by the half list's build
             self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos,
                                              grid=self.fluid_neighbours.grid)
+            # a fluid target's rows: fluid and wall (fluid_neighbours.FluidNeighbourList.crossing)
+            self.crossing = self.fluid_neighbours.crossing | self.wall_neighbours.crossing
+            self.wall_crossing = self.wall_fluid_neighbours.crossing
             self.wall_p_over_rho2[:] = 0.0
             if len(self.f_wall) < self.wall_neighbours.pairs:
                 self.f_wall = np.zeros(int(1.25 * self.wall_neighbours.pairs) + 16)
@@ -193,7 +199,8 @@ class FluidSolver:
         fl, nb = self.fluid, self.fluid_neighbours
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
-                          self.period, self.xz_periodic, self.h, self.rho0, 0.0, fl.rho, self.p, self.p_over_rho2,
+                          self.period, self.xz_periodic, self.crossing, self.h, self.rho0, 0.0, fl.rho, self.p,
+                          self.p_over_rho2,
                           self.f_fluid, self.f_wall, self.density_buf, self.blocks)
         return compression_error(fl.rho, self.rho0)
 
@@ -235,9 +242,10 @@ class FluidSolver:
             it, emax, emean, status = correction_loop(
                 it, fl.pos, fl.mass, fl.rho, self.p, self.p_over_rho2, fl.pressure, nb.start, nb.index, self.f_fluid,
                 self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
-                wfstart, wfindex, self.period, self.xz_periodic, self.h, self.rho0, c * c, dt * dt, self.tolerance,
-                self.on_mean, self.min_iterations, self.max_iterations, nb._targets_at_build, 0.5 * self.skin, self.disp,
-                fl.correction_displacement, self.moved2, self.buf, self.density_buf, self.blocks)
+                wfstart, wfindex, self.period, self.xz_periodic, self.crossing, self.wall_crossing, self.h, self.rho0,
+                c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations, self.max_iterations,
+                nb._targets_at_build, 0.5 * self.skin, self.disp, fl.correction_displacement, self.moved2, self.buf,
+                self.density_buf, self.blocks)
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it
@@ -247,7 +255,7 @@ class FluidSolver:
         velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
         if self.nu > 0.0:
             viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period,
-                             self.xz_periodic, self.h, self.nu, dt, self.vel_work, self.buf)
+                             self.xz_periodic, self.crossing, self.h, self.nu, dt, self.vel_work, self.buf)
             fl.vel[:] = self.vel_work
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)

@@ -66,8 +66,8 @@ def test_fluid_viscous_pass_does_not_depend_on_the_chunks(chunks):
     out = {}
     for c in (1, chunks):
         out[c] = np.zeros_like(vel)
-        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, NO_PERIOD, None, H, 1e-4, 1e-4, out[c],
-                         np.zeros((c, len(pos), 3)))
+        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, NO_PERIOD, None, np.ones(len(pos), dtype=np.bool_),
+                         H, 1e-4, 1e-4, out[c], np.zeros((c, len(pos), 3)))
     change = out[1] - vel
     assert np.abs(change).max() > 0.0
     assert np.abs(out[chunks] - out[1]).max() < 1e-12 * np.abs(change).max()

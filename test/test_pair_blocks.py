@@ -11,6 +11,7 @@ import pytest
 
 from sph_fsi_core.fluid_okaji import DENSITY_BLOCK_COLUMNS, summation_density, xz_periodic_marker
 from sph_fsi_core.kernels import cubic_spline_f, cubic_spline_w
+from sph_fsi_core.fluid_neighbours import FluidNeighbourList
 from sph_fsi_core.neighbours import NeighbourList
 from sph_fsi_core.pair_blocks import BLOCK, block_scratch
 from sph_fsi_core.solid_gradient_integration import gradient_force_rows
@@ -59,23 +60,36 @@ def _half_list(pos):
     return nl
 
 
-@pytest.mark.parametrize("xz_periodic", [None, True])
-def test_summation_density_equals_the_sum_over_every_particle(xz_periodic):
-    """Both compilations of the pass (minimum image along y only, fluid_okaji.xz_periodic_marker(PERIOD), or along
-    every axis) against brute force; they give the same bits."""
+@pytest.mark.parametrize("images", ["rows", "y", "all"])
+def test_summation_density_equals_the_sum_over_every_particle(images):
+    """Each compilation of the pass against brute force, and all give the same bits: the minimum image along y only
+    (fluid_okaji.xz_periodic_marker(PERIOD)) and skipped in the rows the lists' `crossing` flags leave out
+    ("rows"), along y in every row ("y"), along every axis ("all")."""
     pos, rng = _cloud()
     n = len(pos)
     mass = rng.uniform(0.9, 1.1, n) * 1e-6
     walls = np.ascontiguousarray(np.stack([pos[:, 0], pos[:, 1], np.full(n, -0.5 * DP)], -1)[: n // 2])
     wall_mass = np.full(len(walls), 1e-6)
-    fluid = _half_list(pos)
-    wall_list = NeighbourList(2 * H, 0.1 * H, period=PERIOD, box_lo=np.zeros(3), box_hi=np.array([1.0, SPAN, 1.0]))
+    box = dict(period=PERIOD, box_lo=np.zeros(3), box_hi=np.array([1.0, SPAN, 1.0]))
+    fluid = FluidNeighbourList(2 * H, 0.1 * H, half=True, **box)
+    fluid.build(pos, pos)
+    assert np.diff(fluid.start).max() > BLOCK   # some rows take two blocks
+    wall_list = FluidNeighbourList(2 * H, 0.1 * H, **box)
     wall_list.build(pos, walls)
-    rho, p, q = np.zeros(n), np.zeros(n), np.zeros(n)
-    f_fluid, f_wall = np.zeros(fluid.pairs), np.zeros(wall_list.pairs)
-    summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index, PERIOD,
-                      xz_periodic, H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall, np.zeros((CHUNKS, n)),
-                      block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
+    flags = fluid.crossing | wall_list.crossing
+    assert 0 < flags.sum() < n   # both kinds of row
+    assert xz_periodic_marker(PERIOD) is None
+
+    def density(xz_periodic, crossing):
+        rho, p, q = np.zeros(n), np.zeros(n), np.zeros(n)
+        f_fluid, f_wall = np.zeros(fluid.pairs), np.zeros(wall_list.pairs)
+        summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index,
+                          PERIOD, xz_periodic, crossing, H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall,
+                          np.zeros((CHUNKS, n)), block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
+        return rho, f_fluid, f_wall
+
+    everywhere = np.ones(n, dtype=np.bool_)
+    rho, f_fluid, f_wall = density(*{"rows": (None, flags), "y": (None, everywhere), "all": (True, flags)}[images])
     _, w_ff, _ = _kernel_pairs(_separations(pos, pos))
     _, w_fw, _ = _kernel_pairs(_separations(pos, walls))
     expected = w_ff @ mass + w_fw @ wall_mass
@@ -87,13 +101,27 @@ def test_summation_density_equals_the_sum_over_every_particle(xz_periodic):
         r = np.sqrt((d * d).sum(-1))
         f_ref = np.array([cubic_spline_f(x, H) if x < 2 * H else 0.0 for x in r])
         assert np.abs(cache[:nl.pairs] - f_ref).max() < 1e-12 * np.abs(f_ref).max()
-    if xz_periodic is None:
-        assert xz_periodic_marker(PERIOD) is None
-        other = np.zeros(n)
-        summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index,
-                          PERIOD, True, H, 1000.0, 1.0, other, p, q, np.zeros(fluid.pairs), np.zeros(wall_list.pairs),
-                          np.zeros((CHUNKS, n)), block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
-        assert np.array_equal(other, rho)
+    reference = density(None, everywhere)
+    assert all(np.array_equal(x, y) for x, y in zip(reference, (rho, f_fluid, f_wall)))
+
+
+def test_crossing_flags_mark_every_row_that_the_minimum_image_changes():
+    """FluidNeighbourList.crossing against brute force: a row is flagged exactly when one of its pairs lies at least
+    half the period less 1.1 skins apart along y as stored, so every row holding a pair across the periodic face
+    is flagged, and rows with no such pair are not."""
+    pos, _ = _cloud()
+    nl = FluidNeighbourList(2 * H, 0.1 * H, period=PERIOD, box_lo=np.zeros(3), box_hi=np.array([1.0, SPAN, 1.0]),
+                            half=True)
+    nl.build(pos, pos)
+    a = np.repeat(np.arange(len(pos)), np.diff(nl.start))
+    stored = np.abs(pos[a, 1] - pos[nl.index, 1])
+    far = np.zeros(len(pos), dtype=bool)
+    np.logical_or.at(far, a, stored >= 0.5 * SPAN - 1.1 * 0.1 * H)
+    across = np.zeros(len(pos), dtype=bool)
+    np.logical_or.at(across, a, stored > 0.5 * SPAN)
+    assert across.any()
+    assert np.array_equal(nl.crossing, far)
+    assert not (across & ~nl.crossing).any()
 
 
 def _solid_state(pos, rng):
