@@ -114,7 +114,7 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
 
     Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c], their
     lengths to counts[a + 1] and their near_y flags (_scan_target) to crossing[a]; used[c] = the length of all its
-    rows, more than the buffer holds if it overflowed (the counts are right either way)."""
+    rows, more than the buffer holds if it overflowed (the counts and flags are right either way)."""
     n = targets.shape[0]
     chunks = buffers.shape[0]
     capacity = buffers.shape[1]
@@ -225,6 +225,7 @@ class FluidNeighbourList(NeighbourList):
         # pairs this far apart along y as stored may need the minimum image before the next build (`crossing`;
         # 10 % more than the skin, so that round-off in the staleness test cannot matter)
         self.near_y = 0.5 * self.period[1] - 1.1 * self.skin if self.period[1] > 0.0 else np.inf
+        self.xz_periodic = xz_periodic_marker(self.period)
         self.crossing = np.zeros(0, dtype=np.bool_)
 
     def _grid_for(self, sources):
@@ -252,8 +253,8 @@ class FluidNeighbourList(NeighbourList):
         used = np.zeros(chunks, dtype=np.int64)
         crossing = np.zeros(n, dtype=np.bool_)
         _scan_into_chunks(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                          self.period, xz_periodic_marker(self.period), self.cutoff, self.half, self.near_y, start,
-                          crossing, self._buffers, used)
+                          self.period, self.xz_periodic, self.cutoff, self.half, self.near_y, start, crossing,
+                          self._buffers, used)
         np.cumsum(start, out=start)
         index = np.empty(start[-1], dtype=INDEX_DTYPE)
         if used.max() <= self._buffers.shape[1]:
@@ -263,8 +264,7 @@ class FluidNeighbourList(NeighbourList):
         else:
             self.overflows += 1
             _fill_rows(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                       self.period, xz_periodic_marker(self.period), self.cutoff, self.half, self.near_y, start,
-                       index)
+                       self.period, self.xz_periodic, self.cutoff, self.half, self.near_y, start, index)
         wanted = int(1.25 * used.max()) + 64
         if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
             self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)

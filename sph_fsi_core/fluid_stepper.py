@@ -36,7 +36,7 @@ from numba import njit
 from .fluid_neighbours import FluidNeighbourList, _inside_box
 from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
-                          wall_pressure, wrap_periodic, xz_periodic_marker)
+                          wall_pressure, wrap_periodic)
 from .kernels import SUPPORT_RADIUS_IN_H
 from .neighbours import INDEX_DTYPE, _bounds
 from .pair_blocks import block_scratch
@@ -104,7 +104,6 @@ class FluidSolver:
         self.walls = walls
         self.h = float(h)
         self.period = np.asarray(period, dtype=np.float64)
-        self.xz_periodic = xz_periodic_marker(self.period)
         self.box_lo = np.asarray(box_lo if box_lo is not None else np.zeros(3), dtype=np.float64)
         n = fluid.count
         radius = SUPPORT_RADIUS_IN_H * self.h
@@ -112,6 +111,7 @@ class FluidSolver:
         # half list: each fluid pair once (fluid_okaji.py), which halves the pair work of every pass and the build
         self.fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
                                                    half=True)
+        self.xz_periodic = self.fluid_neighbours.xz_periodic   # the passes' (fluid_okaji.xz_periodic_marker)
         # the fixed walls' grid is made once (with a solid in the boundary it moves and is remade)
         self.wall_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
                                                   keep_grid_while_sources_stay=True)
@@ -200,8 +200,7 @@ class FluidSolver:
         wstart, windex, _, _ = self._wall_rows()
         summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
                           self.period, self.xz_periodic, self.crossing, self.h, self.rho0, 0.0, fl.rho, self.p,
-                          self.p_over_rho2,
-                          self.f_fluid, self.f_wall, self.density_buf, self.blocks)
+                          self.p_over_rho2, self.f_fluid, self.f_wall, self.density_buf, self.blocks)
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
