@@ -21,7 +21,13 @@ from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _cell_coordin
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _first_above(order, first, end, a):
     """The first position in order[first:end] (one cell's sources, ascending: the counting sort is stable) whose
-    source is above a (end if none): a half list's row skips the others without looking at them."""
+    source is above a (end if none): a half list's row skips the others without looking at them. Most cells lie
+    wholly above or below a in index order (the scenes number their particles cell by cell of a lattice), which
+    the two ends tell without a search (0.92x the half list's scan at 10^5 fluid particles)."""
+    if first >= end or order[unsigned(end - 1)] <= a:
+        return end
+    if order[unsigned(first)] > a:
+        return first
     while first < end:
         middle = (first + end) // 2
         if order[unsigned(middle)] > a:
@@ -106,7 +112,7 @@ def _stencil_scratch():
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic,
-                      cutoff, half, near_y, counts, crossing, buffers, used):
+                      cutoff, half, near_y, scanned, counts, crossing, buffers, used):
     """One scan over the candidate pairs (neighbours._scan_pairs with the sources' positions in cell order and a
     division-free minimum image, fluid_okaji._image: the fluid's positions are wrapped into the periodic box after
     every step and move less than the skin within one, so one shift by the period is always enough), along y only
@@ -114,7 +120,8 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
 
     Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c], their
     lengths to counts[a + 1] and their near_y flags (_scan_target) to crossing[a]; used[c] = the length of all its
-    rows, more than the buffer holds if it overflowed (the counts and flags are right either way)."""
+    rows, more than the buffer holds if it overflowed (the counts and flags are right either way). `scanned`: the
+    targets to scan (bool per target; empty: all); the others get empty rows without a look at the grid."""
     n = targets.shape[0]
     chunks = buffers.shape[0]
     capacity = buffers.shape[1]
@@ -125,6 +132,10 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
         out = buffers[c]
         slot = 0
         for a in range((n * c) // chunks, (n * (c + 1)) // chunks):
+            if scanned.shape[0] > 0 and not scanned[a]:
+                counts[a + 1] = 0
+                crossing[a] = False
+                continue
             if xz_periodic is None:
                 k, crosses = _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell,
                                           period, half_period, cutoff2, half, near_y, cx, cy, cz, gx, gy, gz, out,
@@ -141,12 +152,14 @@ def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cel
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic, cutoff,
-               half, near_y, start, index):
+               half, near_y, scanned, start, index):
     """The same scan writing each row into index[start[a]:start[a + 1]] (after a chunk buffer overflowed)."""
     n = targets.shape[0]
     cutoff2 = cutoff * cutoff
     half_period = 0.5 * period
     for a in prange(n):
+        if scanned.shape[0] > 0 and not scanned[a]:
+            continue
         cx, cy, cz, gx, gy, gz = _stencil_scratch()
         if xz_periodic is None:
             _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period,
@@ -174,6 +187,18 @@ def _inside_box(points, lo, hi):
             keep[count] = a
             count += 1
     return keep[:count].copy()
+
+
+_ALL_TARGETS = np.zeros(0, dtype=np.bool_)   # `scanned` meaning every target
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def named_in(index, n):
+    """A bool per particle 0..n-1: whether `index` (a list's rows) names it, i.e. it has a neighbour in that list."""
+    named = np.zeros(n, dtype=np.bool_)
+    for k in range(index.shape[0]):
+        named[index[k]] = True
+    return named
 
 
 class SourceGrid(NamedTuple):
@@ -236,9 +261,10 @@ class FluidNeighbourList(NeighbourList):
         self.grid_builds += 1
         return source_grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
 
-    def build(self, targets, sources, grid=None):
+    def build(self, targets, sources, grid=None, scanned=None):
         """Rebuild for the current positions; `grid`: a SourceGrid of these sources as they are now (else made
-        here, or kept from the last build: class docstring)."""
+        here, or kept from the last build: class docstring). `scanned` (bool per target): only these targets can
+        have neighbours (the caller knows it, e.g. from the transposed list); the others get empty rows unscanned."""
         if self.half and sources is not targets:
             raise ValueError("a half neighbour list needs targets and sources to be the same array")
         g = self._grid_for(sources) if grid is None else grid
@@ -252,9 +278,10 @@ class FluidNeighbourList(NeighbourList):
         start = np.zeros(n + 1, dtype=np.int64)
         used = np.zeros(chunks, dtype=np.int64)
         crossing = np.zeros(n, dtype=np.bool_)
+        scanned = _ALL_TARGETS if scanned is None else scanned
         _scan_into_chunks(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                          self.period, self.xz_periodic, self.cutoff, self.half, self.near_y, start, crossing,
-                          self._buffers, used)
+                          self.period, self.xz_periodic, self.cutoff, self.half, self.near_y, scanned, start,
+                          crossing, self._buffers, used)
         np.cumsum(start, out=start)
         index = np.empty(start[-1], dtype=INDEX_DTYPE)
         if used.max() <= self._buffers.shape[1]:
@@ -264,7 +291,7 @@ class FluidNeighbourList(NeighbourList):
         else:
             self.overflows += 1
             _fill_rows(targets, g.sorted_positions, tcell, g.cell_start, g.order, g.lo, g.cell_size, g.ncell,
-                       self.period, self.xz_periodic, self.cutoff, self.half, self.near_y, start, index)
+                       self.period, self.xz_periodic, self.cutoff, self.half, self.near_y, scanned, start, index)
         wanted = int(1.25 * used.max()) + 64
         if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
             self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)

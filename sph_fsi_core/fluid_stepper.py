@@ -33,7 +33,7 @@ import numba
 import numpy as np
 from numba import njit
 
-from .fluid_neighbours import FluidNeighbourList, _inside_box
+from .fluid_neighbours import FluidNeighbourList, _inside_box, named_in
 from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
@@ -165,7 +165,6 @@ class FluidSolver:
         if len(self.f_fluid) < self.fluid_neighbours.pairs:
             self.f_fluid = np.zeros(int(1.25 * self.fluid_neighbours.pairs) + 16)
         if self.walls is not None:
-            self.wall_neighbours.build(pos, self.wall_pos)
             # Only wall particles within the cutoff of the water's bounding box can have fluid neighbours; the
             # others would be clamped into the grid's edge cells and scan them for nothing.
             reach = self.wall_fluid_neighbours.cutoff
@@ -179,6 +178,11 @@ class FluidSolver:
             # the fluid's grid, just made by the half list's build
             self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos,
                                              grid=self.fluid_neighbours.grid)
+            # The fluid->wall list holds the same pairs as the wall->fluid one, seen from the fluid (the cutoff test
+            # is symmetric to the bit): only the fluid particles that list names can have a wall neighbour, so only
+            # they are scanned (at 10^5 fluid particles in the dam break, 1 in 6; 17 of a 93 ms rebuild before).
+            self.wall_neighbours.build(pos, self.wall_pos,
+                                       scanned=named_in(self.wall_fluid_neighbours.index, len(pos)))
             # a fluid target's rows: fluid and wall (fluid_neighbours.FluidNeighbourList.crossing)
             self.crossing = self.fluid_neighbours.crossing | self.wall_neighbours.crossing
             self.wall_crossing = self.wall_fluid_neighbours.crossing

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from sph_fsi_core.fluid_neighbours import FluidNeighbourList, _inside_box, source_grid
+from sph_fsi_core.fluid_neighbours import FluidNeighbourList, _inside_box, named_in, source_grid
 from sph_fsi_core.neighbours import NeighbourList
 from sph_fsi_core.scenes import tank
 
@@ -149,3 +149,43 @@ def test_a_neighbour_on_the_corner_of_a_cell_just_in_reach_is_kept():
     corner = np.flatnonzero(np.all(np.isclose(sources, 2.0 * DP, rtol=0, atol=1e-12), axis=1))
     assert corner[0] in lst.index
     assert np.array_equal(np.sort(lst.index), _brute_force_rows(targets, sources, cutoff, np.zeros(3), False)[0])
+
+
+def test_the_fluid_to_wall_list_scanning_only_the_fluid_the_wall_to_fluid_list_names_is_the_full_one():
+    """The solver's rebuild scans for fluid->wall rows only the fluid particles that the wall->fluid list names
+    (named_in): on a jittered periodic block above a floor, the rows and crossing flags are those of a scan over
+    all the fluid, and most of the fluid is not scanned."""
+    fluid = tank.lattice(8, 6, 12, DP) + np.random.default_rng(4).normal(0.0, 0.2 * DP, (576, 3))
+    period = np.array([0.0, 6 * DP, 0.0])
+    fluid[:, 1] %= period[1]
+    walls = tank.lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
+    args = (2.0 * H, 0.1 * H)
+    kw = dict(period=period, box_lo=np.zeros(3), box_hi=period)
+    wall_fluid = FluidNeighbourList(*args, **kw)
+    wall_fluid.build(walls, fluid)
+    named = named_in(wall_fluid.index, len(fluid))
+    assert np.array_equal(named, np.isin(np.arange(len(fluid)), wall_fluid.index))
+    assert 0.05 * len(fluid) < named.sum() < 0.5 * len(fluid)
+    scanned, everything = FluidNeighbourList(*args, **kw), FluidNeighbourList(*args, **kw)
+    scanned.build(fluid, walls, scanned=named)
+    everything.build(fluid, walls)
+    assert everything.pairs == wall_fluid.pairs > 100
+    assert np.array_equal(scanned.start, everything.start) and np.array_equal(scanned.index, everything.index)
+    assert np.array_equal(scanned.crossing, everything.crossing) and everything.crossing.any()
+    tiny = FluidNeighbourList(*args, **kw)       # the overflow path's second scan skips the same targets
+    tiny.PAIRS_PER_TARGET_GUESS = 0
+    tiny._buffers = np.zeros((0, 0), dtype=tiny._buffers.dtype)
+    tiny.build(fluid, walls, scanned=named)
+    assert tiny.overflows == 1 and np.array_equal(tiny.index, everything.index)
+
+
+def test_a_half_list_over_shuffled_particles_is_the_brute_force_one():
+    """The half list's row skips the sources below its target by their cells' ends or a search (_first_above); with
+    the particles numbered at random (no cell wholly above or below a target) the rows are still brute force's."""
+    points = tank.lattice(9, 9, 9, DP) + np.random.default_rng(6).normal(0.0, 0.25 * DP, (729, 3))
+    points = points[np.random.default_rng(8).permutation(len(points))]
+    half = FluidNeighbourList(2.0 * DP, 0.1 * DP, half=True)
+    half.build(points, points)
+    expected = _brute_force_rows(points, points, 2.1 * DP, np.zeros(3), True)
+    assert half.pairs == sum(len(r) for r in expected) > 10 * len(points)
+    assert all(np.array_equal(got, want) for got, want in zip(_rows(half), expected))
