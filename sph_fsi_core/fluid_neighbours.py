@@ -251,7 +251,6 @@ class FluidNeighbourList(NeighbourList):
         # 10 % more than the skin, so that round-off in the staleness test cannot matter)
         self.near_y = 0.5 * self.period[1] - 1.1 * self.skin if self.period[1] > 0.0 else np.inf
         self.xz_periodic = xz_periodic_marker(self.period)
-        self.crossing = np.zeros(0, dtype=np.bool_)
 
     def _grid_for(self, sources):
         # the staleness test's copy of the last build's sources tells whether they have moved since

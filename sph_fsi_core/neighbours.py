@@ -195,6 +195,21 @@ def pair_kernel_values(targets, sources, start, index, h, period, w, f):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def rows_near_a_periodic_face(targets, sources, start, index, near):
+    """Per target: whether its row holds a pair at least near[k] apart along some axis k as stored, before the
+    minimum image (near[k] = inf on an open axis). NeighbourList.crossing."""
+    n = targets.shape[0]
+    crossing = np.zeros(n, dtype=np.bool_)
+    for a in prange(n):
+        for s in range(unsigned(start[a]), unsigned(start[a + 1])):
+            b = index[s]
+            for k in range(3):
+                if abs(targets[a, k] - sources[b, k]) >= near[k]:
+                    crossing[a] = True
+    return crossing
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def max_displacement(pos, pos_at_build):
     """Largest distance any point has moved since the list was built (Verlet skin test)."""
     n = pos.shape[0]
@@ -262,6 +277,13 @@ class NeighbourList:
     """Neighbours of `targets` among `sources` within `radius` + `skin`, reusable until particles move skin/2.
 
     `period` (3,) gives the periodic length per axis (0: open); `box_lo`/`box_hi` locate periodic axes.
+
+    `crossing[a]`: row a holds a pair at least half a period less 1.1 skins apart along a periodic axis as stored
+    (rows_near_a_periodic_face; all False without one). Until the next build every target and source stays
+    within half the skin of where it was (the staleness test), so the pairs of the other rows stay less than half
+    a period apart as stored, where minimum_image returns the plain difference to the bit: the solid's passes
+    skip the image there. (FluidNeighbourList flags along y only; its passes take the x and z image on every row
+    when those axes are periodic.)
     """
 
     def __init__(self, radius, skin, period=None, box_lo=None, box_hi=None, half=False):
@@ -282,6 +304,9 @@ class NeighbourList:
         self.builds = 0
         self._targets_at_build = None
         self._sources_at_build = None
+        self.crossing = np.zeros(0, dtype=np.bool_)
+        # 10 % more than the skin, so that round-off in the staleness test cannot matter
+        self._near_face = np.where(self.period > 0.0, 0.5 * self.period - 1.1 * self.skin, np.inf)
 
     def build(self, targets, sources):
         """Rebuild the lists for the current positions."""
@@ -300,6 +325,10 @@ class NeighbourList:
         _scan_pairs(targets, sources, tcell, cell_start, order, ncell, self.period, self.cutoff, self.half, start,
                     index, True)
         self.start, self.index = start, index
+        if self.period.any():
+            self.crossing = rows_near_a_periodic_face(targets, sources, start, index, self._near_face)
+        else:
+            self.crossing = np.zeros(len(targets), dtype=np.bool_)
         self._targets_at_build = targets.copy()
         self._sources_at_build = None if sources is targets else sources.copy()
         self.builds += 1

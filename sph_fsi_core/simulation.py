@@ -252,7 +252,7 @@ class Simulation:
     def _solid_acceleration(self):
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
-                           nb.start, nb.index, self.period, self.solid_params, wk.sigma_over_rho2,
+                           nb.start, nb.index, self.period, nb.crossing, self.solid_params, wk.sigma_over_rho2,
                            wk.art_stress, wk.eig_work, wk.w, wk.f, wk.vector_buf, wk.kinv, wk.mls_rows,
                            wk.mls_weights, self.clamp_mirror, s.stress_gradient, wk.force_rows, wk.blocks)
 
@@ -348,7 +348,7 @@ class Simulation:
         done, force = 0, False
         while done < n:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
-                               s.acc, ext_acc, nb.start, nb.index, self.period, nb._targets_at_build, prm,
+                               s.acc, ext_acc, nb.start, nb.index, self.period, nb.crossing, nb._targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,

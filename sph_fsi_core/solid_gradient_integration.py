@@ -98,12 +98,13 @@ def _scatter_moments(out, b, col, k, p0, p1, p2, p3, p4, p5, p6, p7, p8):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def velocity_hessian(pos, period, volume, vel, start, index, h, rows, w, hessian, moments):
+def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, w, hessian, moments):
     """hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)]; `w` holds W_ab at `pos`.
 
     H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab), s_ab = V_b W_ab / h^2: the pairs only sum the 27
     moments (per-chunk `moments`, chunks x N x 27), the rows are applied once per particle. volume: V = m / rho
-    per particle (solid_stepper.particle_volumes).
+    per particle (solid_stepper.particle_volumes). crossing: the rows that may need the minimum image
+    (neighbours.NeighbourList.crossing; the others take plain differences, the same bits).
     """
     inv_period = inverse_periods(period)
     n = pos.shape[0]
@@ -114,15 +115,23 @@ def velocity_hessian(pos, period, volume, vel, start, index, h, rows, w, hessian
         out[:, :] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = volume[a]
+            wrap = crossing[a]
             zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             mx = my = mz = zero    # particle a's moments, one 9-tuple per velocity component
             for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 if w[s] == 0.0:
                     continue
                 b = index[s]
-                ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0]) * inv_h
-                uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1]) * inv_h
-                uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2]) * inv_h
+                rx = pos[a, 0] - pos[b, 0]
+                ry = pos[a, 1] - pos[b, 1]
+                rz = pos[a, 2] - pos[b, 2]
+                if wrap:
+                    rx = minimum_image(rx, period[0], inv_period[0])
+                    ry = minimum_image(ry, period[1], inv_period[1])
+                    rz = minimum_image(rz, period[2], inv_period[2])
+                ux = -rx * inv_h
+                uy = -ry * inv_h
+                uz = -rz * inv_h
                 qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
                 sab = volume[b] * w[s] * inv_h * inv_h
                 sba = va * w[s] * inv_h * inv_h

@@ -48,8 +48,8 @@ def sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index, w, f, xsph_eps, vhat, grad_v, buf,
-                               correct_gradient, kinv):
+def xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, start, index, w, f, xsph_eps, vhat,
+                               grad_v, buf, correct_gradient, kinv):
     """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
 
     One pass over the half list (each pair once): with g = grad_a W_ab and dv = v_b - v_a, the pair adds
@@ -61,6 +61,9 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index
     correct_gradient: also sum K_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab and return L K^-1, the velocity
     gradient that is exact for linear fields also where the kernel is truncated (free surfaces); K^-1 is left
     in `kinv` (N, 3, 3) for the momentum pass. Not in the paper (Gray 2001 uses the plain sum); a scene option.
+
+    crossing: per row, whether its pairs may need the minimum image (neighbours.NeighbourList.crossing); the
+    other rows take plain differences, the same bits.
     """
     inv_period = inverse_periods(period)
     n = vel.shape[0]
@@ -70,6 +73,7 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index
         out[:, 0:18 if correct_gradient else 12] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = volume[a]
+            wrap = crossing[a]
             # a's sums stay in registers; only b's go through the buffer
             x0 = x1 = x2 = 0.0
             l00 = l01 = l02 = l10 = l11 = l12 = l20 = l21 = l22 = 0.0
@@ -78,9 +82,13 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index
                 b = index[s]
                 vb = volume[b]
                 fs = f[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
+                rx = pos[a, 0] - pos[b, 0]
+                ry = pos[a, 1] - pos[b, 1]
+                rz = pos[a, 2] - pos[b, 2]
+                if wrap:
+                    rx = minimum_image(rx, period[0], inv_period[0])
+                    ry = minimum_image(ry, period[1], inv_period[1])
+                    rz = minimum_image(rz, period[2], inv_period[2])
                 gx = fs * rx
                 gy = fs * ry
                 gz = fs * rz
@@ -196,13 +204,14 @@ def xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf):
+def continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, drho, buf):
     """Eq. (3): d rho_a/dt = rho_a sum_b (m_b/rho_b) (vhat_a - vhat_b) . grad_a W_ab.
 
     Half list: the pair's (vhat_a - vhat_b) . grad_a W_ab is the same seen from b, so it adds V_b times it to a's
     sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient, here (chunks, N): a column
     of the wide buffer would pull all of it through the cache for one number per particle). volume: V = m / rho
-    per particle, divided once per step rather than once per pair (solid_stepper.particle_volumes).
+    per particle, divided once per step rather than once per pair (solid_stepper.particle_volumes). crossing: as
+    in xsph_velocity_and_gradient.
     """
     inv_period = inverse_periods(period)
     n = vhat.shape[0]
@@ -212,12 +221,17 @@ def continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, buf):
         out[:] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             va = volume[a]
+            wrap = crossing[a]
             da = 0.0
             for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
-                rx = minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0])
-                ry = minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1])
-                rz = minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2])
+                rx = pos[a, 0] - pos[b, 0]
+                ry = pos[a, 1] - pos[b, 1]
+                rz = pos[a, 2] - pos[b, 2]
+                if wrap:
+                    rx = minimum_image(rx, period[0], inv_period[0])
+                    ry = minimum_image(ry, period[1], inv_period[1])
+                    rz = minimum_image(rz, period[2], inv_period[2])
                 d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
                             + (vhat[a, 2] - vhat[b, 2]) * rz)
                 da += volume[b] * d
@@ -492,8 +506,9 @@ def _momentum_pair_block(block, m, sa, ra, ka, rho_a, inv_h, sigma, h, eta2, sou
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                  alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv, blocks):
+def momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h,
+                  sound_speed, alpha, beta, art_exponent, inv_w_dp, body_acc, acc, w, f, buf, correct_gradient, kinv,
+                  blocks):
     """Eq. (5): dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I + R_ab f_ab^n) . grad_a W_ab + g.
 
     f_ab = W_ab / W(dp); R_ab = R_a + R_b; n = art_exponent, an integer (0: no artificial stress).
@@ -537,7 +552,7 @@ def momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_str
                         for k in range(9):
                             block[(_K_B + k) * STRIDE + j] = kinv[b, k // 3, k % 3]
                     pad_block(block, m, _K_B, 0.0, _K_B + 1, _K_B + 9, 0.0)
-                if periodic:
+                if periodic and crossing[a]:   # (xsph_velocity_and_gradient)
                     minimum_image_block(block, _RX, m, period, inv_period)
                 _momentum_pair_block(block, padded(m), sigma_over_rho2[a], art_stress[a], kinv[a], rho[a], inv_h,
                                      sigma, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,

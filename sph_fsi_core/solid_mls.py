@@ -389,9 +389,9 @@ def _mls_pair_block(block, m, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, i
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h, sound_speed,
-                      alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf, force_rows,
-                      blocks):
+def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h,
+                      sound_speed, alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf,
+                      force_rows, blocks):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
@@ -408,7 +408,8 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
     In blocks (pair_blocks.py; `blocks`: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns): what needs only
     particle a's rows and stress runs in SIMD lanes (_mls_pair_block); b's weights G_ba, its stress part and its
     half of the gradient force, which need b's 27 fit numbers (27 more with the gradient integration), per pair in
-    the scatter loop, where they are read in place.
+    the scatter loop, where they are read in place. crossing: the rows that may need the minimum image
+    (neighbours.NeighbourList.crossing; the others take plain differences, the same bits).
     """
     inv_period = inverse_periods(period)
     periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
@@ -438,7 +439,7 @@ def momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art
                 pad_block(block, m, _MASS_B, 0.0, 0, 0, 0.0)
                 if art_exponent > 0:
                     gather_tensors(block, _R_B, index, lo, m, art_stress)
-                if periodic:
+                if periodic and crossing[a]:
                     minimum_image_block(block, _RX, m, period, inv_period)
                 _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a], force_rows[a] if
                                 gradient_integration else rows[a], mass[a], rho[a], ka, inv_h, sigma_k, h, eta2,

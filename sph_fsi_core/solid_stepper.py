@@ -153,22 +153,23 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
+def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period, crossing,
                        prm, sigma_over_rho2, art_stress, eig_work, w, f, vector_buf, kinv, mls_rows, mls_weights,
                        clamp_mirror, stress_gradient, force_rows, blocks):
     """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions;
-    `vector_buf` (chunks, N, 3): the momentum pass's per-chunk sums (SolidWork)."""
+    `vector_buf` (chunks, N, 3): the momentum pass's per-chunk sums (SolidWork); `crossing`: the rows that may
+    need the minimum image (neighbours.NeighbourList.crossing)."""
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.gradient_order == 2:
         if prm.cell_moment > 0.0:
             gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
-        momentum_rate_mls(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
-                          prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
+        momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index,
+                          prm.h, prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
                           mls_weights, vector_buf, force_rows, blocks)
     else:
-        momentum_rate(pos, period, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
+        momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
                       prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, vector_buf,
                       prm.gradient_order == 1, kinv, blocks)
     fold_clamp_forces(acc, mass, body, clamp_mirror)
@@ -203,9 +204,10 @@ def _max_norm(v):
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
-                   period, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress, eig_work,
-                   w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian, dstress_gradient,
-                   force_rows, hessian_moments, turn, fit_refresh, blocks, volume, vector_buf, scalar_buf):
+                   period, crossing, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress,
+                   eig_work, w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian,
+                   dstress_gradient, force_rows, hessian_moments, turn, fit_refresh, blocks, volume, vector_buf,
+                   scalar_buf):
     """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
 
     `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
@@ -232,16 +234,17 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
             xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v,
                                            buf)
         else:
-            xsph_velocity_and_gradient(pos, period, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps, vhat,
-                                       grad_v, buf, prm.gradient_order == 1, kinv)
+            xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps,
+                                       vhat, grad_v, buf, prm.gradient_order == 1, kinv)
         if prm.gradient_order == 0:
-            continuity_rate(pos, period, rho, volume, vhat, start, index, f, drho, scalar_buf)
+            continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, drho, scalar_buf)
         else:
             # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
             velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
         if prm.cell_moment > 0.0:
-            velocity_hessian(pos, period, volume, vel, start, index, prm.h, mls_rows, w, hessian, hessian_moments)
+            velocity_hessian(pos, period, crossing, volume, vel, start, index, prm.h, mls_rows, w, hessian,
+                             hessian_moments)
             stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:
@@ -259,7 +262,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 # the ghost's displacement is its image's, reversed, as its velocity is
                 for k in range(3):
                     pos[a, k] -= dt * vhat[clamp_mirror[a], k]
-        solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period,
+        solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period, crossing,
                            prm, sigma_over_rho2, art_stress, eig_work, w, f, vector_buf, kinv, mls_rows, mls_weights,
                            clamp_mirror, stress_gradient, force_rows, blocks)
         for a in range(n):

@@ -40,14 +40,15 @@ def _solid_passes(chunks):
     n = len(pos)
     buf = np.zeros((chunks, n, 18))
     vhat, grad = np.zeros((n, 3)), np.zeros((n, 3, 3))
-    xsph_velocity_and_gradient(pos, NO_PERIOD, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5, vhat, grad,
-                               buf, False, np.zeros((n, 3, 3)))
+    xsph_velocity_and_gradient(pos, NO_PERIOD, nl.crossing, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
+                               vhat, grad, buf, False, np.zeros((n, 3, 3)))
     drho = np.zeros(n)
-    continuity_rate(pos, NO_PERIOD, rho, mass / rho, vhat, nl.start, nl.index, f, drho, np.zeros((chunks, n)))
+    continuity_rate(pos, NO_PERIOD, nl.crossing, rho, mass / rho, vhat, nl.start, nl.index, f, drho,
+                    np.zeros((chunks, n)))
     acc = np.zeros((n, 3))
-    momentum_rate(pos, NO_PERIOD, mass, np.ones(n, dtype=np.bool_), rho, vel, sigma_over_rho2, np.zeros((n, 6)),
-                  nl.start, nl.index, H, 30.0, 1.0, 1.0, 0, 1.0, np.zeros(3), acc, w.copy(), f.copy(), buf, False,
-                  np.zeros((n, 3, 3)), block_scratch(chunks, MOMENTUM_BLOCK_COLUMNS))
+    momentum_rate(pos, NO_PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sigma_over_rho2,
+                  np.zeros((n, 6)), nl.start, nl.index, H, 30.0, 1.0, 1.0, 0, 1.0, np.zeros(3), acc, w.copy(), f.copy(),
+                  buf, False, np.zeros((n, 3, 3)), block_scratch(chunks, MOMENTUM_BLOCK_COLUMNS))
     return {"vhat": vhat, "grad_v": grad, "drho": drho, "acc": acc}
 
 

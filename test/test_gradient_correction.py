@@ -29,8 +29,8 @@ def _block_gradient(velocity_gradient, correct):
     vhat = np.zeros((n, 3))
     grad = np.zeros((n, 3, 3))
     buf = np.zeros((2, n, 18))
-    xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5, vhat,
-                               grad, buf, correct, np.zeros((n, 3, 3)))
+    xsph_velocity_and_gradient(pos, np.zeros(3), nl.crossing, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
+                               vhat, grad, buf, correct, np.zeros((n, 3, 3)))
     return pos, grad
 
 
@@ -72,9 +72,9 @@ def test_momentum_pass_conserves_momentum_with_and_without_correction():
     nl.build(pos, pos)
     for correct in (False, True):
         acc = np.zeros((n, 3))
-        momentum_rate(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sig, art, nl.start,
-                      nl.index, h, 176.0, 1.0, 1.0, 4, 1.0 / 0.2, np.zeros(3), acc, np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((2, n, 18)),
-                      correct, kinv, block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+        momentum_rate(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sig, art, nl.start,
+                      nl.index, h, 176.0, 1.0, 1.0, 4, 1.0 / 0.2, np.zeros(3), acc, np.zeros(nl.pairs),
+                      np.zeros(nl.pairs), np.zeros((2, n, 18)), correct, kinv, block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
         total = (mass[:, None] * acc).sum(axis=0)
         scale = (mass[:, None] * np.abs(acc)).sum()
         assert scale > 0
@@ -140,7 +140,7 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
     grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_gradient(pos, np.zeros(3), mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
+    xsph_velocity_and_gradient(pos, np.zeros(3), nl.crossing, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
                                np.zeros((n, 3)), grad, np.zeros((2, n, 18)), True, np.zeros((n, 3, 3)))
     outer = np.isclose(zc, 1.5 * dp) & (pos[:, 0] > 4 * dp) & (pos[:, 0] < 8 * dp)
     ratio = -grad[outer, 0, 0] / zc[outer]
@@ -159,9 +159,10 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     sigma = rng.normal(scale=1e3, size=(n, 6))
     acc = np.zeros((n, 3))
     refreshed = np.zeros_like(weights)
-    momentum_rate_mls(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, sigma / rho[:, None] ** 2,
-                      np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, f, refreshed,
-                      np.zeros((2, n, 18)), np.zeros((0, 3, 9)), block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+    momentum_rate_mls(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel,
+                      sigma / rho[:, None] ** 2, np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0,
+                      np.zeros(3), rows, acc, w, f, refreshed, np.zeros((2, n, 18)), np.zeros((0, 3, 9)),
+                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)

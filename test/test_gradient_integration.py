@@ -39,7 +39,7 @@ def _jittered_bar(seed):
 def _hessian(pos, h, mass, rho, nl, rows, w, vel):
     n = len(pos)
     hessian = np.zeros((n, 3, 6))
-    velocity_hessian(pos, np.zeros(3), mass / rho, vel, nl.start, nl.index, h, rows, w, hessian,
+    velocity_hessian(pos, np.zeros(3), nl.crossing, mass / rho, vel, nl.start, nl.index, h, rows, w, hessian,
                      np.zeros((2, n, 27)))
     return hessian
 
@@ -68,9 +68,9 @@ def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_po
     force_rows = np.zeros((n, 3, 9))
     gradient_force_rows(mass, rho, t, cell_moment, rows, force_rows)
     # the momentum pass with no stress and no viscosity: the stress gradient's force alone
-    momentum_rate_mls(pos, np.zeros(3), mass, np.ones(n, dtype=np.bool_), rho, vel, np.zeros((n, 6)), np.zeros((n, 6)),
-                      nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w, np.zeros(nl.pairs),
-                      np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), force_rows,
+    momentum_rate_mls(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, np.zeros((n, 6)),
+                      np.zeros((n, 6)), nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w,
+                      np.zeros(nl.pairs), np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), force_rows,
                       block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
     force = mass[:, None] * acc
     assert np.abs(force.sum(axis=0)).max() < 1e-12 * np.abs(force).sum()

@@ -17,7 +17,7 @@ from sph_fsi_core.pair_blocks import BLOCK, block_scratch
 from sph_fsi_core.solid_gradient_integration import gradient_force_rows
 from sph_fsi_core.solid_gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
 from sph_fsi_core.schema import MAX_ART_EXPONENT
-from sph_fsi_core.solid_gray2001 import integer_power, momentum_rate
+from sph_fsi_core.solid_gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
 from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls
 from sph_fsi_core.solid_mls import MOMENTUM_BLOCK_COLUMNS as MLS_COLUMNS
 from sph_fsi_core.tensors import SYM_INDEX
@@ -124,6 +124,42 @@ def test_crossing_flags_mark_every_row_that_the_minimum_image_changes():
     assert not (across & ~nl.crossing).any()
 
 
+def test_solid_passes_skip_the_minimum_image_only_where_it_changes_nothing():
+    """NeighbourList.crossing against brute force (a row is flagged when one of its pairs lies at least half the
+    period less 1.1 skins apart as stored along the periodic axis), and Gray's three passes (eq. (4) velocity and
+    gradient, eq. (3), eq. (5)) with those flags give the same bits as with the image on every row, after every
+    particle has moved almost half the skin since the build."""
+    pos, rng = _cloud(seed=4)
+    n = len(pos)
+    nl = _half_list(pos)
+    a = np.repeat(np.arange(n), np.diff(nl.start))
+    stored = np.abs(pos[a, 1] - pos[nl.index, 1])
+    far = np.zeros(n, dtype=bool)
+    np.logical_or.at(far, a, stored >= 0.5 * SPAN - 1.1 * 0.1 * H)
+    assert 0 < far.sum() < n and np.array_equal(nl.crossing, far)
+    step = rng.normal(size=(n, 3))
+    moved = pos + 0.499 * 0.1 * H * step / np.linalg.norm(step, axis=1)[:, None]
+    mass, rho, vel, sor2, art = _solid_state(moved, rng)
+    volume = mass / rho
+
+    def passes(crossing):
+        w, f = np.zeros(nl.pairs), np.zeros(nl.pairs)
+        acc = np.zeros((n, 3))
+        momentum_rate(moved, PERIOD, crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start,
+                      nl.index, H, 30.0, 1.0, 1.0, 4, 1.0 / cubic_spline_w(DP, H), np.zeros(3), acc, w, f,
+                      np.zeros((CHUNKS, n, 18)), False, np.zeros((n, 3, 3)), block_scratch(CHUNKS, GRAY_COLUMNS))
+        vhat, grad, drho = np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros(n)
+        xsph_velocity_and_gradient(moved, PERIOD, crossing, mass, rho, volume, vel, nl.start, nl.index, w, f, 0.5,
+                                   vhat, grad, np.zeros((CHUNKS, n, 18)), False, np.zeros((n, 3, 3)))
+        continuity_rate(moved, PERIOD, crossing, rho, volume, vhat, nl.start, nl.index, f, drho, np.zeros((CHUNKS, n)))
+        return acc, w, vhat, grad, drho
+
+    flagged, everywhere = passes(nl.crossing), passes(np.ones(n, dtype=np.bool_))
+    assert all(np.array_equal(x, y) for x, y in zip(flagged, everywhere))
+    wrong = passes(np.zeros(n, dtype=np.bool_))   # the flagged rows do need the image
+    assert not np.array_equal(wrong[0], everywhere[0])
+
+
 def _solid_state(pos, rng):
     n = len(pos)
     mass = rng.uniform(0.9, 1.1, n) * 1e-6
@@ -163,9 +199,9 @@ def test_gray_momentum_pass_equals_eq_5_summed_over_every_pair(exponent, correct
     alpha, beta, c0, w_dp = 1.0, 1.0, 30.0, cubic_spline_w(DP, H)
     acc = np.zeros((n, 3))
     w, f = np.zeros(nl.pairs), np.zeros(nl.pairs)
-    momentum_rate(pos, PERIOD, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start, nl.index, H, c0,
-                  alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), acc, w, f, np.zeros((CHUNKS, n, 18)), correct, kinv,
-                  block_scratch(CHUNKS, GRAY_COLUMNS))
+    momentum_rate(pos, PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start, nl.index,
+                  H, c0, alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), acc, w, f, np.zeros((CHUNKS, n, 18)), correct,
+                  kinv, block_scratch(CHUNKS, GRAY_COLUMNS))
     d = _separations(pos, pos)
     r, wk, fk = _kernel_pairs(d)
     inside = (r < 2 * H) & (r > 0.0)
@@ -206,8 +242,8 @@ def test_quadratic_fit_momentum_pass_equals_its_pair_forces_summed_over_every_pa
     alpha, beta, c0, w_dp = 1.0, 0.5, 30.0, cubic_spline_w(DP, H)
     acc = np.zeros((n, 3))
     w, f, weights = np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((nl.pairs, 6))
-    momentum_rate_mls(pos, PERIOD, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start, nl.index, H, c0,
-                      alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), rows, acc, w, f, weights,
+    momentum_rate_mls(pos, PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start,
+                      nl.index, H, c0, alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), rows, acc, w, f, weights,
                       np.zeros((CHUNKS, n, 18)), force_rows, block_scratch(CHUNKS, MLS_COLUMNS))
     d = _separations(pos, pos)                                            # r_a - r_b
     r, wk, fk = _kernel_pairs(d)
