@@ -194,6 +194,20 @@ def pair_kernel_values(targets, sources, start, index, h, period, w, f):
             w[s], f[s] = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
 
 
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def pair_separation(pos, a, b, period, inv_period, wrap):
+    """r_a - r_b, through minimum_image on each axis when `wrap` (the row's NeighbourList.crossing flag), else the
+    plain differences (the same bits wherever the flag is off)."""
+    rx = pos[a, 0] - pos[b, 0]
+    ry = pos[a, 1] - pos[b, 1]
+    rz = pos[a, 2] - pos[b, 2]
+    if wrap:
+        rx = minimum_image(rx, period[0], inv_period[0])
+        ry = minimum_image(ry, period[1], inv_period[1])
+        rz = minimum_image(rz, period[2], inv_period[2])
+    return rx, ry, rz
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def rows_near_a_periodic_face(targets, sources, start, index, near):
     """Per target: whether its row holds a pair at least near[k] apart along some axis k as stored, before the

@@ -28,7 +28,7 @@ linear (fewer than three layers) have zero Hessian rows and no correction.
 import numpy as np
 from numba import njit, prange
 
-from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
+from .neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
 from .tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
@@ -122,13 +122,7 @@ def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, 
                 if w[s] == 0.0:
                     continue
                 b = index[s]
-                rx = pos[a, 0] - pos[b, 0]
-                ry = pos[a, 1] - pos[b, 1]
-                rz = pos[a, 2] - pos[b, 2]
-                if wrap:
-                    rx = minimum_image(rx, period[0], inv_period[0])
-                    ry = minimum_image(ry, period[1], inv_period[1])
-                    rz = minimum_image(rz, period[2], inv_period[2])
+                rx, ry, rz = pair_separation(pos, a, b, period, inv_period, wrap)
                 ux = -rx * inv_h
                 uy = -ry * inv_h
                 uz = -rz * inv_h

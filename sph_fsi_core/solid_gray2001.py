@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import cubic_spline_wf
-from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
+from .neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
 from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
@@ -82,13 +82,7 @@ def xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, st
                 b = index[s]
                 vb = volume[b]
                 fs = f[s]
-                rx = pos[a, 0] - pos[b, 0]
-                ry = pos[a, 1] - pos[b, 1]
-                rz = pos[a, 2] - pos[b, 2]
-                if wrap:
-                    rx = minimum_image(rx, period[0], inv_period[0])
-                    ry = minimum_image(ry, period[1], inv_period[1])
-                    rz = minimum_image(rz, period[2], inv_period[2])
+                rx, ry, rz = pair_separation(pos, a, b, period, inv_period, wrap)
                 gx = fs * rx
                 gy = fs * ry
                 gz = fs * rz
@@ -225,13 +219,7 @@ def continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, d
             da = 0.0
             for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
-                rx = pos[a, 0] - pos[b, 0]
-                ry = pos[a, 1] - pos[b, 1]
-                rz = pos[a, 2] - pos[b, 2]
-                if wrap:
-                    rx = minimum_image(rx, period[0], inv_period[0])
-                    ry = minimum_image(ry, period[1], inv_period[1])
-                    rz = minimum_image(rz, period[2], inv_period[2])
+                rx, ry, rz = pair_separation(pos, a, b, period, inv_period, wrap)
                 d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
                             + (vhat[a, 2] - vhat[b, 2]) * rz)
                 da += volume[b] * d
