@@ -1,6 +1,7 @@
 # sph_fsi: build, run and test from a local virtual environment.
 #   make run       create .venv, install everything pinned, run the ROS 2 node on the paper's elastic gate
-#                  (2 mm, pressure coupling: about a minute), recording MCAP + Rerun into runs/, exit at the end
+#                  (2 mm, pressure coupling: about a minute), recording MCAP + Rerun into runs/, its summary and
+#                  time series into runs/elastic_gate/, exit at the end
 #   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT
 #   make test      same install, then the test suite
 # Variables: VENV; for run: NODE_SCENE, NODE_PARAMS (extra `-p key:=value`); for headless: SCENE (scene name or
@@ -45,7 +46,8 @@ NODE_PARAMS ?= -p numerics.spacing:=0.002
 run: install
 	mkdir -p runs
 	$(VENV)/bin/sph_fsi_node --ros-args -p scene:=$(NODE_SCENE) $(NODE_PARAMS) -p on_end:=exit \
-	    -p mcap_path:=runs/$(NODE_SCENE).mcap -p rrd_path:=runs/$(NODE_SCENE).rrd
+	    -p mcap_path:=runs/$(NODE_SCENE).mcap -p rrd_path:=runs/$(NODE_SCENE).rrd -p out_dir:=runs/$(NODE_SCENE)
+	@echo "Run:        runs/$(NODE_SCENE)/summary.json (checks or error against the reference, wall time), timeseries.csv"
 	@echo "Recordings: runs/$(NODE_SCENE).mcap (Foxglove: open the file; rosbags / mcap-ros2-support in Python)"
 	@echo "            runs/$(NODE_SCENE).rrd  (Rerun viewer: $(VENV)/bin/rerun runs/$(NODE_SCENE).rrd)"
 

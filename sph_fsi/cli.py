@@ -167,8 +167,9 @@ def _cmd_run(args):
                       + (f"; errors: {'; '.join(stats['errors'])}" if stats["errors"] else ""), file=sys.stderr)
     if status == "interrupted":
         name = signal.Signals(signals.signum).name if signals.signum else "SIGINT"
-        print(f"sph-fsi: stopped by {name} at t = {state['sim'].time if state['sim'] else 0.0:.6g} s",
-              file=sys.stderr)
+        print(f"sph-fsi: stopped by {name} at t = {state['sim'].time if state['sim'] else 0.0:.6g} s"
+              + (f"; the run so far (not judged) is in {out}/timeseries.csv, {out}/summary.json"
+                 if (out / "summary.json").exists() else ""), file=sys.stderr)
         return EXIT_INTERRUPTED
     _print_summary(summary, out)
     if status == "diverged":

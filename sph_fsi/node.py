@@ -144,6 +144,7 @@ from sensor_msgs.msg import PointCloud2  # noqa: E402
 from std_msgs.msg import Float64, Header  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
+from sph_fsi_core.run import RunLog, headline  # noqa: E402
 from sph_fsi_core.scene import load_scene  # noqa: E402
 from sph_fsi_core.schema import Param, SceneError  # noqa: E402
 from sph_fsi_core.simulation import Diverged, Simulation  # noqa: E402
@@ -175,8 +176,11 @@ NODE_PARAMS = {p.key: p for p in [
           "('' = off)", kind="str"),
     Param("record_interval", 0.005, "s", "Simulated time between recorded frames, independent of publish_period "
           "(whole outer steps; 0 = every outer step)", low=0.0, high=10.0),
+    Param("out_dir", "", "", "Write timeseries.csv and summary.json (error against the scene's reference, wall "
+          "time) here when the run ends, diverges, is reset or stopped ('' = off; <dir>_<n> after each reset)",
+          kind="str"),
 ]}
-RECORDING_PARAMS = ("mcap_path", "mcap_compression", "rrd_path", "rerun_connect", "record_interval")
+RECORDING_PARAMS = ("mcap_path", "mcap_compression", "rrd_path", "rerun_connect", "record_interval", "out_dir")
 # Scene keys not exposed as parameters: the builder follows from the scene.
 HIDDEN_SCENE_KEYS = {"scene.builder"}
 # Parameters rclpy declares itself, and prefixes of ROS-level overrides we leave alone.
@@ -269,6 +273,9 @@ class SphFsiNode(Node):
         self.sim = None
         self._recorder = None
         self._recordings = 0                    # recorders opened so far (numbers the files after a reset)
+        self._run_log = None                    # the running simulation's RunLog
+        self._run_logs = 0                      # runs built so far (numbers out_dir after a reset)
+        self._run_log_written = True            # nothing new since the last summary (or none to write)
         self._thread = threading.Thread(target=self._run, name="simulation", daemon=True)
 
     # ---- parameters ---------------------------------------------------------------------------------------
@@ -494,6 +501,7 @@ class SphFsiNode(Node):
         if self._thread.is_alive():
             self._thread.join()
         self._close_recorder("interrupted")
+        self._end_run_log("interrupted")
 
     def _finish_node(self, code):
         self.exit_code = code
@@ -564,8 +572,11 @@ class SphFsiNode(Node):
             self._publish_diagnostics()
 
     def _build(self, spec):
+        t0 = time.perf_counter()
         sim = Simulation(spec)
+        setup_s = time.perf_counter() - t0
         self._close_recorder("reset")
+        self._end_run_log("reset")
         self.sim = sim
         self._outer_dt = self.sim.outer_step_duration()
         with self._cv:
@@ -579,6 +590,48 @@ class SphFsiNode(Node):
         self._publish_walls()
         self._publish_frame()
         self._open_recorder()
+        self._run_log = RunLog(sim, setup_s)
+        self._run_log_dir = (_numbered(self._settings["out_dir"], self._run_logs) if self._settings["out_dir"]
+                             else None)
+        if self._run_log_dir:   # found out now, not after a long run
+            try:
+                os.makedirs(self._run_log_dir, exist_ok=True)
+                if not os.access(self._run_log_dir, os.W_OK):
+                    raise OSError(f"{self._run_log_dir!r} is not writable")
+            except OSError as exc:
+                if self._run_logs == 0:
+                    raise SceneError(f"out_dir: {exc}; allowed: a writable directory") from None
+                self.get_logger().error(f"out_dir: {exc}; this run's summary goes to the log only")
+                self._run_log_dir = None
+        self._run_logs += 1
+        self._run_log_written = False
+
+    # ---- the run's time series and summary (simulation thread; the last one written by stop()) -------------
+    def _write_run_log(self, status, diverged=None):
+        """Summary (error against the reference, wall time) to the log and, with out_dir, to disk."""
+        log = self._run_log
+        if log is None or self._run_log_written:
+            return
+        self._run_log_written = True
+        summary = log.summary(self._end_time(), status, diverged)
+        where = ""
+        if self._run_log_dir:
+            try:
+                log.write(self._run_log_dir, summary)
+                where = f" (written to {self._run_log_dir}/)"
+            except OSError as exc:
+                where = f" (not written to {self._run_log_dir}/: {exc})"
+                with self._cv:
+                    self._last_error = f"out_dir: {exc}"
+        line = f"run {headline(summary)}{where}"
+        if status == "diverged":   # rclpy: one severity per call site
+            self.get_logger().error(line)
+        else:
+            self.get_logger().info(line)
+
+    def _end_run_log(self, status):
+        if self._run_log is not None and self._run_log.sim.outer_steps > 0:
+            self._write_run_log(status)
 
     # ---- recordings (simulation thread; closed by stop() after the thread has ended) ----------------------
     def _open_recorder(self):
@@ -724,11 +777,16 @@ class SphFsiNode(Node):
         while done < n and sim.time < end - tol:
             if interruptible and self._interrupted():
                 break
+            t0 = time.perf_counter()
             try:
                 sim.step()
             except Diverged as exc:
+                self._run_log.add_stepping(time.perf_counter() - t0)
                 self._on_diverged(exc)
                 return
+            self._run_log.add_stepping(time.perf_counter() - t0)
+            self._run_log.add_sample()
+            self._run_log_written = False
             if self._recorder is not None:
                 self._recorder.maybe_record(sim)
             done += 1
@@ -752,6 +810,7 @@ class SphFsiNode(Node):
             return   # interrupted before the first step: nothing new to publish
         if reached_end:
             self.get_logger().info(f"finished at t = {sim.time:.6g} s")
+            self._write_run_log("finished")
             if self._settings["on_end"] == "exit":
                 self._finish_node(0)
 
@@ -760,6 +819,8 @@ class SphFsiNode(Node):
             self._diverged = exc
             self._sim_time = self.sim.time
         self.get_logger().error(str(exc))
+        self._run_log_written = False
+        self._write_run_log("diverged", exc)
         self._publish_diagnostics()
         if self._settings["on_end"] == "exit":
             self._finish_node(EXIT_DIVERGED)

@@ -82,85 +82,149 @@ def write_snapshot(sim, path, snapshot_index=0):
     np.savez_compressed(path, **data)
 
 
+class RunLog:
+    """A run's time series and summary, whoever drives it (run_scene here, the ROS node, the validation ladder).
+
+    The driver times what it wants counted: `setup_s` (building the Simulation) and each stretch of stepping
+    (`add_stepping`); pauses and publishing are not stepping time. `summary()` gives the error against the
+    scene's reference (when the run reached its end) with the wall time it cost; `write()` puts timeseries.csv
+    and summary.json into a directory.
+    """
+
+    def __init__(self, sim, setup_s):
+        self.sim = sim
+        self.setup_s = setup_s
+        self.stepping_s = 0.0
+        self.rows = [sim.sample()]
+
+    def add_sample(self):
+        self.rows.append(self.sim.sample())
+        return self.rows[-1]
+
+    def add_stepping(self, seconds):
+        self.stepping_s += seconds
+
+    def series(self):
+        return {k: np.array([r[k] for r in self.rows]) for k in self.rows[0]}
+
+    def summary(self, end_time, status, diverged=None, snapshots=0):
+        """status: 'finished' (end time reached: judged against the reference), 'diverged' (diverged is the
+        Diverged exception), or how the run was cut short ('interrupted', 'reset'): not judged."""
+        sim, stepping_s = self.sim, self.stepping_s
+        evaluation = {}
+        if status == "finished" and hasattr(sim.builder, "evaluate"):
+            evaluation = sim.builder.evaluate(self.series(), sim.spec.values)
+        solid_count = sim.solid.count if sim.solid is not None else 0
+        fluid_count = sim.fluid.count if sim.fluid is not None else 0
+        particle_steps = solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
+        fluid_particle_iterations = fluid_count * sim.fluid_iterations
+        fluid_builds = sim.fluid_solver.builds if sim.fluid_solver is not None else 0
+        spec = sim.spec
+        return {
+            "scene": spec.name, "builder": spec.builder, "source": spec.source, "phases": list(sim.phases),
+            "particles": {"solid": solid_count,
+                          "solid_moving": sim.solid.moving_count if sim.solid is not None else 0,
+                          **sim.particle_counts},
+            "status": status,
+            "end_time_s": end_time, "simulated_time_s": sim.time, "stable": diverged is None,
+            "diverged": diverged.as_dict() if diverged else None, "warnings": sim.warnings,
+            "solid_steps": sim.solid_steps, "outer_steps": sim.outer_steps, "solid_dt_s": sim.last_solid_dt,
+            "neighbour_builds": sim.neighbour_builds + fluid_builds,
+            "fluid_steps": sim.fluid_steps, "fluid_dt_s": sim.last_fluid_dt,
+            "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
+            "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
+            "fluid_particle_iterations": fluid_particle_iterations,
+            "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s
+                                                     if stepping_s > 0 and fluid_count else None),
+            "wall_time_s": self.setup_s + stepping_s, "setup_time_s": self.setup_s, "stepping_time_s": stepping_s,
+            "particle_steps": particle_steps,
+            "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
+            "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
+                          "surface_particles": sim.coupling.surface_count,
+                          "last_substeps": sim.coupling.last_substeps} if getattr(sim, "coupling", None) else None),
+            "snapshots": snapshots, "machine": machine_info(),
+            "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},
+            **evaluation,
+        }
+
+    def write(self, out_dir, summary):
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        with open(out / "timeseries.csv", "w", newline="") as fh:
+            writer = csv.writer(fh)
+            writer.writerow(list(self.rows[0]))
+            for r in self.rows:
+                writer.writerow([repr(float(v)) for v in r.values()])
+        (out / "summary.json").write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
+
+
+def headline(summary):
+    """One line for a log: how the run ended, its error against the reference (or its checks), its cost."""
+    s = summary
+    parts = [f"{s['status']} at t = {s['simulated_time_s']:.6g} s"]
+    if s.get("error") is not None:
+        parts.append(f"error {100 * s['error']:.2f} % ({s.get('error_metric', 'against the scene reference')})")
+    checks = {k[len("check_"):]: v for k, v in s.items() if k.startswith("check_")}
+    if checks:
+        parts.append("checks " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in checks.items()))
+    if s["status"] == "diverged":
+        d = s["diverged"]
+        parts.append(f"{d['check']}: {d['detail']}")
+    parts.append(f"wall time {s['wall_time_s']:.1f} s (setup {s['setup_time_s']:.1f} s)")
+    if s.get("particle_steps_per_second"):
+        parts.append(f"{s['particle_steps_per_second'] / 1e6:.3g} M particle-steps/s")
+    return "; ".join(parts)
+
+
 def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
-    """Run `spec` to its end time; returns the summary dict (also written to out_dir/summary.json if given)."""
+    """Run `spec` to its end time; returns the summary dict (also written to out_dir/summary.json if given).
+
+    An exception from `on_sample` (the CLI's Ctrl-C) ends the run: what was computed is still written, with
+    status 'interrupted', before the exception goes on."""
     end = end_time if end_time is not None else spec["scene.end_time"]
     progress = _Progress(end, sys.stderr.isatty() if progress is None else progress)
     out = Path(out_dir) if out_dir else None
     if out:
         out.mkdir(parents=True, exist_ok=True)
         (out / "snapshots").mkdir(exist_ok=True)
+        for stale in ("summary.json", "timeseries.csv"):   # an earlier run's, never mistaken for this one's
+            (out / stale).unlink(missing_ok=True)
     t0 = time.perf_counter()
     sim = Simulation(spec)
-    setup_s = time.perf_counter() - t0
-    rows = [sim.sample()]
+    log = RunLog(sim, time.perf_counter() - t0)
     if on_sample:
-        on_sample(sim, rows[-1])
+        on_sample(sim, log.rows[-1])
     snap_dt = spec["output.snapshot_interval"]
     next_snap, snap_count = 0.0, 0
     diverged = None
+    status = "interrupted"
     t1 = time.perf_counter()
     try:
-        while sim.time < end - 1e-12:
-            if out and snap_dt > 0 and sim.time >= next_snap - 1e-12:
-                write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
-                snap_count += 1
-                next_snap += snap_dt
-            sim.step()
-            rows.append(sim.sample())
-            if on_sample:
-                on_sample(sim, rows[-1])
-            progress.update(sim)
-    except Diverged as exc:
-        diverged = exc
+        try:
+            while sim.time < end - 1e-12:
+                if out and snap_dt > 0 and sim.time >= next_snap - 1e-12:
+                    write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
+                    snap_count += 1
+                    next_snap += snap_dt
+                sim.step()
+                row = log.add_sample()
+                if on_sample:
+                    on_sample(sim, row)
+                progress.update(sim)
+            status = "finished"
+        except Diverged as exc:
+            diverged, status = exc, "diverged"
+        finally:
+            log.add_stepping(time.perf_counter() - t1)
+            progress.update(sim, force=True)
+            progress.close()
+        if out and snap_dt > 0 and diverged is None:
+            write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
+            snap_count += 1
     finally:
-        progress.update(sim, force=True)
-        progress.close()
-    stepping_s = time.perf_counter() - t1
-    if out and snap_dt > 0 and diverged is None:
-        write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
-        snap_count += 1
-    series = {k: np.array([r[k] for r in rows]) for k in rows[0]}
-    evaluation = {}
-    if diverged is None and hasattr(sim.builder, "evaluate"):
-        evaluation = sim.builder.evaluate(series, spec.values)
-    solid_count = sim.solid.count if sim.solid is not None else 0
-    fluid_count = sim.fluid.count if sim.fluid is not None else 0
-    particle_steps = solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
-    fluid_particle_iterations = fluid_count * sim.fluid_iterations
-    fluid_builds = sim.fluid_solver.builds if sim.fluid_solver is not None else 0
-    summary = {
-        "scene": spec.name, "builder": spec.builder, "source": spec.source, "phases": list(sim.phases),
-        "particles": {"solid": solid_count,
-                      "solid_moving": sim.solid.moving_count if sim.solid is not None else 0,
-                      **sim.particle_counts},
-        "end_time_s": end, "simulated_time_s": sim.time, "stable": diverged is None,
-        "diverged": diverged.as_dict() if diverged else None, "warnings": sim.warnings,
-        "solid_steps": sim.solid_steps, "outer_steps": sim.outer_steps, "solid_dt_s": sim.last_solid_dt,
-        "neighbour_builds": sim.neighbour_builds + fluid_builds,
-        "fluid_steps": sim.fluid_steps, "fluid_dt_s": sim.last_fluid_dt,
-        "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
-        "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
-        "fluid_particle_iterations": fluid_particle_iterations,
-        "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s
-                                                 if stepping_s > 0 and fluid_count else None),
-        "wall_time_s": setup_s + stepping_s, "setup_time_s": setup_s, "stepping_time_s": stepping_s,
-        "particle_steps": particle_steps,
-        "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
-        "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
-                      "surface_particles": sim.coupling.surface_count,
-                      "last_substeps": sim.coupling.last_substeps} if getattr(sim, "coupling", None) else None),
-        "snapshots": snap_count, "machine": machine_info(),
-        "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},
-        **evaluation,
-    }
-    if out:
-        with open(out / "timeseries.csv", "w", newline="") as fh:
-            writer = csv.writer(fh)
-            writer.writerow(list(series))
-            for r in rows:
-                writer.writerow([repr(float(v)) for v in r.values()])
-        (out / "summary.json").write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
+        summary = log.summary(end, status, diverged, snap_count)
+        if out:
+            log.write(out, summary)
     return summary
 
 

@@ -9,6 +9,7 @@ snapshot). The .rrd is read with RrdReader and checked by `rerun rrd verify`. SI
 leave both files readable with every frame up to the stop.
 """
 import csv
+import json
 import os
 import signal
 import subprocess
@@ -332,6 +333,12 @@ def test_signal_mid_recording_leaves_whole_files(sig, tmp_path):
     data, _ = rrd_contents(rrd)
     assert sorted(data["/world/solid"]) == clocks
     assert data["/status"][t_stop]["TextLog:text"] == [f"interrupted at t = {t_stop * 1e-9:.6g} s"]
+    # the headless outputs too: the time series up to the stop and a summary that says it was cut short
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["status"] == "interrupted" and "error" not in summary
+    assert round(summary["simulated_time_s"] * 1e9) == t_stop and summary["stepping_time_s"] > 0
+    times = np.loadtxt(tmp_path / "out" / "timeseries.csv", delimiter=",", skiprows=1, usecols=0)
+    assert round(times[-1] * 1e9) == t_stop and len(times) == summary["outer_steps"] + 1
 
 
 def test_fluid_scene_records_fluid_and_walls_only(tmp_path):

@@ -5,6 +5,7 @@ the run's random base, below), discovery on localhost only.
 CPU: the node runs single-threaded (NUMBA_NUM_THREADS=1) on a small cantilever (12 x 3 x 4 mm at 1 mm: 144
 moving + 96 clamp particles) with a publish period of 1 ms (4 outer steps).
 """
+import json
 import os
 import random
 import signal
@@ -211,8 +212,10 @@ def peer():
 
 @pytest.fixture(scope="module")
 def node(peer, tmp_path_factory):
-    params = [("geometry.clamp_margin", 2), ("publish_period", PERIOD), ("end_time", 0.05)]
+    run_log = tmp_path_factory.mktemp("node_runs") / "run"
+    params = [("geometry.clamp_margin", 2), ("publish_period", PERIOD), ("end_time", 0.05), ("out_dir", run_log)]
     proc = NodeProcess(DOMAIN, params, params_file=_params_file(tmp_path_factory.mktemp("node")))
+    proc.run_log = run_log
     try:
         peer.wait_for("/clock", timeout=FIRST_CLOCK_TIMEOUT)
     except AssertionError:
@@ -375,11 +378,16 @@ def test_pause_stops_clock_and_step_advances_one_period(node, peer):
 
 def test_reset_returns_to_zero_and_keeps_the_pause(node, peer):
     # paused from the previous test
-    assert peer.last_clock() > 0.0
+    t_reset = peer.last_clock()
+    assert t_reset > 0.0
     start = peer.count("/clock")
     response, dt = peer.call(peer.reset, Trigger.Request())
     assert response.success and dt < LATENCY_LIMIT
     peer.wait_for("/clock", lambda m: seconds_from_stamp(m.clock) == 0.0, start=start)
+    # the run that was reset left its summary (out_dir, numbered after each reset), cut short: not judged
+    summaries = [json.loads(p.read_text()) for p in node.run_log.parent.glob("run*/summary.json")]
+    reset = [s for s in summaries if s["status"] == "reset" and s["simulated_time_s"] == pytest.approx(t_reset)]
+    assert len(reset) == 1 and "error" not in reset[0] and reset[0]["stepping_time_s"] > 0, summaries
     msg = peer.wait_for("/sph_fsi/tip_displacement", lambda m: seconds_from_stamp(m.header.stamp) == 0.0)
     assert (msg.vector.x, msg.vector.y, msg.vector.z) == (0.0, 0.0, 0.0)
     n = _wait_until_quiet(peer)
@@ -433,6 +441,10 @@ def test_divergence_is_reported_and_reset_recovers(node, peer):
     assert status.level == DiagnosticStatus.ERROR
     assert values["check"] == "speed" and "watchdog.max_speed" in values["detail"] and float(values["time"]) > 0
     n = _wait_until_quiet(peer)   # nothing but diagnostics after a divergence
+    summaries = [json.loads(p.read_text()) for p in node.run_log.parent.glob("run*/summary.json")]
+    diverged = [s for s in summaries if s["status"] == "diverged"]
+    assert len(diverged) == 1 and not diverged[0]["stable"] and diverged[0]["diverged"]["check"] == "speed"
+    assert diverged[0]["diverged"]["time"] == pytest.approx(float(values["time"])) and "error" not in diverged[0]
     response, _ = peer.call(peer.step, Trigger.Request())
     assert not response.success and "diverged" in response.message
     assert peer.set_param("watchdog.max_speed", 100.0)[0].successful
@@ -522,6 +534,18 @@ def test_bad_startup_parameter_exits_2_with_reason():
     assert proc.proc.wait(60.0) == 2
     err = proc.stderr().strip().splitlines()
     assert err and "solid.young_modulus" in err[-1] and "(0, 1e+13]" in err[-1], err
+
+
+def test_unwritable_out_dir_exits_2_before_running(tmp_path):
+    """Found out at startup, not after a long run."""
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    proc = NodeProcess(SIGNAL_DOMAIN, [(k, v) for k, v in SMALL.items()]
+                       + [("end_time", 0.003), ("out_dir", str(blocker / "out"))], module=False)
+    assert proc.proc.wait(FIRST_CLOCK_TIMEOUT) == 2
+    err = proc.stderr()
+    assert "out_dir" in err and str(blocker / "out") in err and "writable directory" in err, err
+    assert "finished" not in err, err
 
 
 def test_sigint_ten_times_then_sigterm():

@@ -5,6 +5,8 @@ receive every recorded message, per topic in the recorded order, with the record
 values), paced by the recorded (simulated) time scaled by --rate.
 Node: a node run with mcap_path/rrd_path ends (on_end exit, and SIGINT mid-run) with both files whole.
 """
+import csv
+import json
 import os
 import random
 import signal
@@ -163,9 +165,9 @@ def _node(params, domain):
 @pytest.mark.parametrize("ending", ["end_time", "SIGINT"])
 def test_node_records_mcap_and_rrd(ending, tmp_path):
     from mcap.reader import make_reader
-    mcap, rrd = tmp_path / "node.mcap", tmp_path / "node.rrd"
+    mcap, rrd, out = tmp_path / "node.mcap", tmp_path / "node.rrd", tmp_path / "out"
     params = {"numerics.spacing": 0.002, "publish_period": 0.001, "record_interval": 0.002,
-              "mcap_path": str(mcap), "rrd_path": str(rrd), "mcap_compression": "lz4"}
+              "mcap_path": str(mcap), "rrd_path": str(rrd), "mcap_compression": "lz4", "out_dir": str(out)}
     params.update({"end_time": 0.01, "on_end": "exit"} if ending == "end_time" else {"end_time": 5.0})
     proc = _node(params, NODE_DOMAIN)
     try:
@@ -196,5 +198,22 @@ def test_node_records_mcap_and_rrd(ending, tmp_path):
     assert counts["/diagnostics"] == frames + 1
     r = subprocess.run([RERUN, "rrd", "verify", str(rrd)], env=env(), capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
-    status = recorded(mcap)["/diagnostics"][-1][1][1]
+    messages = recorded(mcap)
+    status = messages["/diagnostics"][-1][1][1]
     assert status == ("finished" if ending == "end_time" else "interrupted")
+    # out_dir: the run's time series and summary, as `sph-fsi run` writes them, and a log line with its cost
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == status and summary["stable"]
+    assert summary["wall_time_s"] >= summary["stepping_time_s"] > 0 and summary["particle_steps_per_second"] > 0
+    assert f"run {status} at t = " in err and "wall time" in err, err
+    if ending == "end_time":
+        assert summary["simulated_time_s"] == pytest.approx(0.01) and "error_metric" in summary   # judged
+    else:
+        assert "error" not in summary
+    with open(out / "timeseries.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == summary["outer_steps"] + 1
+    # the recorded tip displacement is the time series' own at every recorded stamp, to the bit
+    by_stamp = {round(float(r["time"]) * 1e9): tuple(float(r[f"tip_d{c}"]) for c in "xyz") for r in rows}
+    tips = messages["/sph_fsi/tip_displacement"]
+    assert len(tips) == frames and all(by_stamp[stamp] == value for _t, (stamp, value) in tips)
