@@ -330,7 +330,12 @@ def test_services_answer_promptly_while_computing(node, peer):
     start = _reset_and_wait(peer)
     t_begin = peer.last_clock()
     latencies = {"step": [], "pause false": [], "set_parameters": []}
-    for _ in range(15):
+    # at least 15 rounds, and on until the simulation has advanced two periods (a period costs 0.2-0.7 s of one
+    # thread, more when the other test worker loads the host)
+    deadline = time.monotonic() + 60.0
+    rounds = 0
+    while rounds < 15 or (peer.last_clock() < t_begin + 2 * PERIOD - 1e-9 and time.monotonic() < deadline):
+        rounds += 1
         response, dt = peer.call(peer.step, Trigger.Request())
         assert not response.success and "paused" in response.message   # refused at once: not paused
         latencies["step"].append(dt)
