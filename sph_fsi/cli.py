@@ -50,15 +50,11 @@ def _cmd_keys(args):
 
 
 def _check_out_dir(path):
-    out = Path(path)
+    from sph_fsi_core.run import make_writable_dir
     try:
-        out.mkdir(parents=True, exist_ok=True)
-        probe = out / ".write_test"
-        probe.write_text("")
-        probe.unlink()
+        return make_writable_dir(path)
     except OSError as exc:
-        raise ValueError(f"--out {str(out)!r}: not writable ({exc.strerror}); allowed: a writable directory")
-    return out
+        raise ValueError(f"--out {str(path)!r}: not writable ({exc.strerror}); allowed: a writable directory")
 
 
 class _Stop(Exception):

@@ -144,7 +144,7 @@ from sensor_msgs.msg import PointCloud2  # noqa: E402
 from std_msgs.msg import Float64, Header  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
-from sph_fsi_core.run import RunLog, headline  # noqa: E402
+from sph_fsi_core.run import RunLog, headline, make_writable_dir  # noqa: E402
 from sph_fsi_core.scene import load_scene  # noqa: E402
 from sph_fsi_core.schema import Param, SceneError  # noqa: E402
 from sph_fsi_core.simulation import Diverged, Simulation  # noqa: E402
@@ -275,7 +275,7 @@ class SphFsiNode(Node):
         self._recordings = 0                    # recorders opened so far (numbers the files after a reset)
         self._run_log = None                    # the running simulation's RunLog
         self._run_logs = 0                      # runs built so far (numbers out_dir after a reset)
-        self._run_log_written = True            # nothing new since the last summary (or none to write)
+        self._run_log_steps = 0                 # the run's outer steps when its summary was last written
         self._thread = threading.Thread(target=self._run, name="simulation", daemon=True)
 
     # ---- parameters ---------------------------------------------------------------------------------------
@@ -501,7 +501,7 @@ class SphFsiNode(Node):
         if self._thread.is_alive():
             self._thread.join()
         self._close_recorder("interrupted")
-        self._end_run_log("interrupted")
+        self._write_run_log("interrupted")
 
     def _finish_node(self, code):
         self.exit_code = code
@@ -576,7 +576,7 @@ class SphFsiNode(Node):
         sim = Simulation(spec)
         setup_s = time.perf_counter() - t0
         self._close_recorder("reset")
-        self._end_run_log("reset")
+        self._write_run_log("reset")
         self.sim = sim
         self._outer_dt = self.sim.outer_step_duration()
         with self._cv:
@@ -593,26 +593,27 @@ class SphFsiNode(Node):
         self._run_log = RunLog(sim, setup_s)
         self._run_log_dir = (_numbered(self._settings["out_dir"], self._run_logs) if self._settings["out_dir"]
                              else None)
-        if self._run_log_dir:   # found out now, not after a long run
+        if self._run_log_dir:
             try:
-                os.makedirs(self._run_log_dir, exist_ok=True)
-                if not os.access(self._run_log_dir, os.W_OK):
-                    raise OSError(f"{self._run_log_dir!r} is not writable")
+                make_writable_dir(self._run_log_dir)
             except OSError as exc:
+                why = f"out_dir {self._run_log_dir!r}: not writable ({exc.strerror})"
                 if self._run_logs == 0:
-                    raise SceneError(f"out_dir: {exc}; allowed: a writable directory") from None
-                self.get_logger().error(f"out_dir: {exc}; this run's summary goes to the log only")
+                    raise SceneError(f"{why}; allowed: a writable directory") from None
+                self.get_logger().error(f"{why}; this run's summary goes to the log only")
                 self._run_log_dir = None
         self._run_logs += 1
-        self._run_log_written = False
+        self._run_log_steps = 0
 
     # ---- the run's time series and summary (simulation thread; the last one written by stop()) -------------
     def _write_run_log(self, status, diverged=None):
-        """Summary (error against the reference, wall time) to the log and, with out_dir, to disk."""
+        """Summary (error against the reference, wall time) to the log and, with out_dir, to disk; once per
+        state: not again while the run has not stepped since (a reset or stop after the end or a divergence),
+        nor for a run that never stepped. A divergence always writes (it can trip before the step is counted)."""
         log = self._run_log
-        if log is None or self._run_log_written:
+        if log is None or (diverged is None and log.sim.outer_steps == self._run_log_steps):
             return
-        self._run_log_written = True
+        self._run_log_steps = log.sim.outer_steps
         summary = log.summary(self._end_time(), status, diverged)
         where = ""
         if self._run_log_dir:
@@ -628,10 +629,6 @@ class SphFsiNode(Node):
             self.get_logger().error(line)
         else:
             self.get_logger().info(line)
-
-    def _end_run_log(self, status):
-        if self._run_log is not None and self._run_log.sim.outer_steps > 0:
-            self._write_run_log(status)
 
     # ---- recordings (simulation thread; closed by stop() after the thread has ended) ----------------------
     def _open_recorder(self):
@@ -786,7 +783,6 @@ class SphFsiNode(Node):
                 return
             self._run_log.add_stepping(time.perf_counter() - t0)
             self._run_log.add_sample()
-            self._run_log_written = False
             if self._recorder is not None:
                 self._recorder.maybe_record(sim)
             done += 1
@@ -819,7 +815,6 @@ class SphFsiNode(Node):
             self._diverged = exc
             self._sim_time = self.sim.time
         self.get_logger().error(str(exc))
-        self._run_log_written = False
         self._write_run_log("diverged", exc)
         self._publish_diagnostics()
         if self._settings["on_end"] == "exit":

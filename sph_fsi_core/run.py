@@ -82,6 +82,17 @@ def write_snapshot(sim, path, snapshot_index=0):
     np.savez_compressed(path, **data)
 
 
+def make_writable_dir(path):
+    """Create `path` (and parents) and prove it takes a file; raises OSError otherwise. Both the CLI's --out and
+    the node's out_dir call it before the run, so a bad directory is found before a long run, not after it."""
+    out = Path(path)
+    out.mkdir(parents=True, exist_ok=True)
+    probe = out / ".write_test"
+    probe.write_text("")
+    probe.unlink()
+    return out
+
+
 class RunLog:
     """A run's time series and summary, whoever drives it (run_scene here, the ROS node, the validation ladder).
 
@@ -200,28 +211,26 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
     status = "interrupted"
     t1 = time.perf_counter()
     try:
-        try:
-            while sim.time < end - 1e-12:
-                if out and snap_dt > 0 and sim.time >= next_snap - 1e-12:
-                    write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
-                    snap_count += 1
-                    next_snap += snap_dt
-                sim.step()
-                row = log.add_sample()
-                if on_sample:
-                    on_sample(sim, row)
-                progress.update(sim)
-            status = "finished"
-        except Diverged as exc:
-            diverged, status = exc, "diverged"
-        finally:
-            log.add_stepping(time.perf_counter() - t1)
-            progress.update(sim, force=True)
-            progress.close()
-        if out and snap_dt > 0 and diverged is None:
+        while sim.time < end - 1e-12:
+            if out and snap_dt > 0 and sim.time >= next_snap - 1e-12:
+                write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
+                snap_count += 1
+                next_snap += snap_dt
+            sim.step()
+            row = log.add_sample()
+            if on_sample:
+                on_sample(sim, row)
+            progress.update(sim)
+        status = "finished"
+    except Diverged as exc:
+        diverged, status = exc, "diverged"
+    finally:
+        log.add_stepping(time.perf_counter() - t1)
+        progress.update(sim, force=True)
+        progress.close()
+        if out and snap_dt > 0 and status == "finished":
             write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
             snap_count += 1
-    finally:
         summary = log.summary(end, status, diverged, snap_count)
         if out:
             log.write(out, summary)
