@@ -209,13 +209,13 @@ def _print_summary(s, out):
 
 
 def _cmd_validate(args):
-    from sph_fsi_core.validation import main as validate_main
+    from sph_fsi_core.validation.ladder import main as validate_main
     return validate_main(args.cases, quick=args.quick, workers=args.workers, out_dir=args.out,
                          report_only=args.report_only)
 
 
 def _cmd_stability(args):
-    from sph_fsi_core.stability import main as stability_main
+    from sph_fsi_core.validation.stability import main as stability_main
     return stability_main(ci=args.ci, out_dir=args.out, names=args.names)
 
 

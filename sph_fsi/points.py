@@ -9,7 +9,7 @@ A phase the scene does not have (`sim.fluid` / `sim.solid` / `sim.walls` None or
 """
 import numpy as np
 
-from sph_fsi_core.tensors import von_mises
+from sph_fsi_core.numerics.tensors import von_mises
 
 __all__ = ["PHASE_FLUID", "PHASE_SOLID", "PHASE_CODES", "PARTICLE_DTYPE", "WALL_DTYPE", "moving_particles",
            "wall_positions", "particle_points", "pack_particles", "topic_plan"]

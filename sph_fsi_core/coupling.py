@@ -9,12 +9,12 @@ Per fluid step dt (simulation.py drives it):
    particle of the same volume, m'_s = rho0_fluid (m_s / rho_s) s_lattice (s_lattice: scenes/tank.py's lattice
    density scale), so a fluid particle next to the solid sees rho0 as next to a fixed wall whatever the solid's
    own density. In eq. (2) a solid particle carries the Shepard average of its fluid neighbours' pressure, as a
-   wall particle does (fluid_okaji.wall_pressure). The fluid's wall lists are rebuilt when the fluid or the solid
+   wall particle does (okaji.wall_pressure). The fluid's wall lists are rebuilt when the fluid or the solid
    has moved half the skin since their build (each at most half: pairs never move more than the skin closer).
 2. The fluid takes its step (gravity, predictor, density correction, eq. (8), (9)) with the solid held where it is.
 3. The push on the solid is computed once from the fluid's step and held over the solid's sub-steps:
    - 'seed', eqs. (10)-(11): adot_b = (r_b(t+dt) - r*_b) / dt^2 for every water particle b (what the density
-     correction moved it, fluid_okaji.apply_displacement's running total). The paper's (10) prints
+     correction moved it, okaji.apply_displacement's running total). The paper's (10) prints
      r(t+dt) - r(t), but r(t+dt) - r(t) = v dt is the whole motion, so (10) would be v / dt, not an acceleration,
      and a water column at rest on a gate would push it with its own fall; the text says the force is "from the
      local density gradient applied while correcting positions", which is r(t+dt) - r* (METHOD.md sec. 3, Open).
@@ -23,7 +23,7 @@ Per fluid step dt (simulation.py drives it):
      gamma = coupling.gamma (the paper: 10). Interior solid particles get nothing. It is not momentum-conserving
      (gamma is a tuning factor); and adot is the water particle's NET correction acceleration, which at rest only
      balances gravity: a column at rest presses on a vertical gate with little more than its noise (FINDINGS.md).
-   - 'pressure': the fluid pressure P (the step's summed correction pressure, fluid_okaji.correction_pressure, the
+   - 'pressure': the fluid pressure P (the step's summed correction pressure, okaji.correction_pressure, the
      pressure that held the fluid incompressible over the step, about rho g depth at rest) acts on every solid
      particle s through the same pair term the fluid feels from it in eq. (2):
          F_{s<-a} = m_a m'_s (P_a + P_s) / rho0^2 grad_a W_as = -F_{a<-s},         acc_s = sum_a F_{s<-a} / m_s
@@ -45,8 +45,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .kernels import SUPPORT_RADIUS_IN_H, cubic_spline_wf
-from .neighbours import NeighbourList, unsigned
+from .numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_wf
+from .numerics.neighbours import NeighbourList, unsigned
 from .state import WallState
 
 MODELS = ("seed", "pressure")
@@ -138,7 +138,7 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h, out):
     """P_s = sum_f P_f W_sf / sum_f W_sf over the fluid neighbours of solid particle s (0 without any): the
-    pressure a solid particle carries as a wall (fluid_okaji.wall_pressure's rule, on the step's summed P)."""
+    pressure a solid particle carries as a wall (okaji.wall_pressure's rule, on the step's summed P)."""
     inv_h = 1.0 / h
     sigma = 1.0 / (math.pi * h * h * h)
     support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h

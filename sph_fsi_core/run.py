@@ -18,7 +18,7 @@ import numpy as np
 
 from .diagnostics import Diverged
 from .simulation import Simulation
-from .tensors import COMPONENT_NAMES
+from .numerics.tensors import COMPONENT_NAMES
 
 
 class _Progress:

@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-MAX_ART_EXPONENT = 12   # solid.artificial_stress_exponent's upper bound (solid_gray2001.integer_power takes n < 16)
+MAX_ART_EXPONENT = 12   # solid.artificial_stress_exponent's upper bound (gray2001.integer_power takes n < 16)
 
 
 class SceneError(ValueError):

@@ -1,8 +1,8 @@
 """The one time loop. `Simulation` builds a scene's phases and advances them; everything else only reads state.
 
 `step()` advances one outer step, one time-series interval. The solid takes it as an integer number of solid
-steps no larger than the stable step; the loop over solid steps runs compiled (solid_stepper.solid_leapfrog).
-The fluid takes it as whole fluid steps (fluid_stepper.FluidSolver.step), each no larger than its stable step,
+steps no larger than the stable step; the loop over solid steps runs compiled (solid.stepper.solid_leapfrog).
+The fluid takes it as whole fluid steps (fluid.stepper.FluidSolver.step), each no larger than its stable step,
 the last ones shortened evenly so the interval ends on a step. After every outer step the watchdog checks the
 state, so a run that goes wrong stops within one outer step with a diagnosis and nothing non-finite ever leaves
 the simulator. Phases a scene does not have are None and cost nothing: no arrays, lists or passes.
@@ -14,15 +14,15 @@ import numpy as np
 
 from .coupling import Coupling
 from .diagnostics import Diverged, Watchdog, kinetic_energy
-from .fluid_stepper import FluidSolver
-from .neighbours import NeighbourList, pair_kernel_values
+from .fluid.stepper import FluidSolver
+from .numerics.neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .scenes import BUILDERS
-from .solid_gray2001 import material_constants, strain_energy
-from .solid_gradient_integration import gradient_strain_energy
-from .solid_mls import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
-from .solid_stepper import SolidWork, make_params, mirror_clamp_velocities, solid_acceleration, solid_leapfrog
-from .kernels import SUPPORT_RADIUS_IN_H
+from .solid.gray2001 import material_constants, strain_energy
+from .solid.gradient_integration import gradient_strain_energy
+from .solid.fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
+from .solid.stepper import SolidWork, make_params, mirror_clamp_velocities, solid_acceleration, solid_leapfrog
+from .numerics.kernels import SUPPORT_RADIUS_IN_H
 from .scenes.built import check_layout
 from .scenes.tank import lattice_density_scale
 
@@ -348,7 +348,7 @@ class Simulation:
         done, force = 0, False
         while done < n:
             k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
-                               s.acc, ext_acc, nb.start, nb.index, self.period, nb.crossing, nb._targets_at_build, prm,
+                               s.acc, ext_acc, nb.start, nb.index, self.period, nb.crossing, nb.targets_at_build, prm,
                                wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
                                wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
                                self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
@@ -373,7 +373,7 @@ class Simulation:
         self.solid_steps += n
 
     def stable_fluid_dt(self):
-        """The fluid's stable step (fluid_stepper.FluidSolver.stable_dt)."""
+        """The fluid's stable step (fluid.stepper.FluidSolver.stable_dt)."""
         return self.fluid_solver.stable_dt(self.spec["fluid.cfl"])
 
     def _fluid_dt(self, at_time):

@@ -20,7 +20,7 @@ class SolidState:
     surface_normal: np.ndarray = None   # (N, 3) outward unit normal, zero inside (set by coupled scenes)
     acc: np.ndarray = field(default=None)        # (N, 3) m/s^2, acceleration at the current positions
     pressure: np.ndarray = field(default=None)   # (N,) Pa
-    # (N, 3, 6) Pa/m, d_k S (deviatoric) of solid.nodal_integration = gradient (solid_gradient_integration.py); else (0, 3, 6)
+    # (N, 3, 6) Pa/m, d_k S (deviatoric) of solid.nodal_integration = gradient (solid/gradient_integration.py); else (0, 3, 6)
     stress_gradient: np.ndarray = field(default=None)
 
     def __post_init__(self):
@@ -53,7 +53,7 @@ class FluidState:
     """Water particles of the density-correction fluid (Satake et al. sec. 2.2).
 
     `pressure` is the pressure that made this step's correction: the sum over the step's correction iterations of
-    eq. (7)'s c^2 (rho - rho0)_+ (see fluid_okaji.py); `rho` the summation density (1) at the current positions.
+    eq. (7)'s c^2 (rho - rho0)_+ (see fluid/okaji.py); `rho` the summation density (1) at the current positions.
     `correction_displacement` is r(t+dt) - r* of the last step, what the density correction moved each particle
     (kept for the coupling of eq. (10)).
     """

@@ -6,10 +6,10 @@ beyond round-off, so 1, 2 and 5 chunks must agree to round-off on a disordered c
 import numpy as np
 import pytest
 
-from sph_fsi_core.fluid_okaji import viscous_velocity
-from sph_fsi_core.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.pair_blocks import block_scratch
-from sph_fsi_core.solid_gray2001 import (MOMENTUM_BLOCK_COLUMNS, continuity_rate, momentum_rate,
+from sph_fsi_core.fluid.okaji import viscous_velocity
+from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
+from sph_fsi_core.numerics.pair_blocks import block_scratch
+from sph_fsi_core.solid.gray2001 import (MOMENTUM_BLOCK_COLUMNS, continuity_rate, momentum_rate,
                                          xsph_velocity_and_gradient)
 
 DP, H = 1e-3, 1.3e-3

@@ -5,12 +5,12 @@ docs/method.md, "The clamp").
 import numpy as np
 import pytest
 
-from sph_fsi_core.oscillation import measure_frequency, period_averaged
+from sph_fsi_core.validation.oscillation import measure_frequency, period_averaged
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
-from sph_fsi_core.solid_mls import xsph_velocity_and_mls_gradient
-from sph_fsi_core.solid_stepper import mirror_clamp_velocities
+from sph_fsi_core.solid.fitted_gradient import xsph_velocity_and_mls_gradient
+from sph_fsi_core.solid.stepper import mirror_clamp_velocities
 
 SMALL_BEAM = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_margin=2",
               "output.snapshot_interval=0", "output.timeseries_interval=5e-5", "scene.end_time=0.03"]
@@ -97,10 +97,10 @@ def test_mirrored_clamp_keeps_the_energy_of_a_free_oscillation(small_beam_runs):
 def test_mirrored_clamp_brings_the_short_beam_closer_to_3d_elasticity(small_beam_runs):
     """12 x 3 x 4 mm beam at H/dp = 4, where the fixed clamp's half spacing of extra length is 4 % of L.
 
-    3D elasticity (sph_fsi_core.fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements, 184.41 Hz
+    3D elasticity (sph_fsi_core.validation.fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements, 184.41 Hz
     with 0.5 mm (converging from above). Measured: fixed 165.0 Hz, mirrored 167.8 Hz (both without viscosity).
     """
-    from sph_fsi_core.fe_reference import cantilever_fe_frequency
+    from sph_fsi_core.validation.fe_reference import cantilever_fe_frequency
     fe = cantilever_fe_frequency(0.012, thickness=0.004, width=0.003, young_modulus=1.859e6, poisson_ratio=0.49,
                                  density=1000.0, element_size=1e-3)["vertical_hz"]
     fixed, mirrored = (small_beam_runs[c][0]["frequency_hz"] for c in ("fixed", "mirrored"))

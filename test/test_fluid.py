@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.diagnostics import Diverged
-from sph_fsi_core.fluid_okaji import viscous_velocity, xz_periodic_marker
-from sph_fsi_core.fluid_stepper import FluidSolver
-from sph_fsi_core.kernels import cubic_spline_w
+from sph_fsi_core.fluid.okaji import viscous_velocity, xz_periodic_marker
+from sph_fsi_core.fluid.stepper import FluidSolver
+from sph_fsi_core.numerics.kernels import cubic_spline_w
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import tank
 from sph_fsi_core.schema import SceneError

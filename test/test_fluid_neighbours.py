@@ -1,9 +1,9 @@
-"""The fluid's neighbour lists (sph_fsi_core/fluid_neighbours.py) against the general NeighbourList and brute force."""
+"""The fluid's neighbour lists (sph_fsi_core/fluid/neighbours.py) against the general NeighbourList and brute force."""
 import numpy as np
 import pytest
 
-from sph_fsi_core.fluid_neighbours import FluidNeighbourList, _inside_box, named_in, source_grid
-from sph_fsi_core.neighbours import NeighbourList
+from sph_fsi_core.fluid.neighbours import FluidNeighbourList, inside_box, named_in, source_grid
+from sph_fsi_core.numerics.neighbours import NeighbourList
 from sph_fsi_core.scenes import tank
 
 DP = 1.0e-3
@@ -67,7 +67,7 @@ def test_walls_within_reach_are_the_points_inside_the_box_brute_force():
                    ([2.0, 2.0, 2.0], [3.0, 3.0, 3.0])):
         lo, hi = np.array(lo), np.array(hi)
         expected = np.flatnonzero(((points >= lo) & (points <= hi)).all(axis=1))
-        got = _inside_box(points, lo, hi)
+        got = inside_box(points, lo, hi)
         assert np.array_equal(got, expected)
         assert len(expected) > 0 or lo[0] == 2.0
     assert np.sum((points == -0.5).any(axis=1)) > 0

@@ -8,9 +8,9 @@ every particle, surface and corners included.
 """
 import numpy as np
 
-from sph_fsi_core.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.pair_blocks import block_scratch
-from sph_fsi_core.solid_gray2001 import xsph_velocity_and_gradient
+from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
+from sph_fsi_core.numerics.pair_blocks import block_scratch
+from sph_fsi_core.solid.gray2001 import xsph_velocity_and_gradient
 
 
 def _block_gradient(velocity_gradient, correct):
@@ -54,7 +54,7 @@ def test_plain_gradient_turns_rotation_into_strain_at_surfaces():
 
 def test_momentum_pass_conserves_momentum_with_and_without_correction():
     """Each pair adds equal and opposite forces (half list), also with per-particle K^-1: sum_a m_a a_a = 0."""
-    from sph_fsi_core.solid_gray2001 import MOMENTUM_BLOCK_COLUMNS, momentum_rate
+    from sph_fsi_core.solid.gray2001 import MOMENTUM_BLOCK_COLUMNS, momentum_rate
     rng = np.random.default_rng(5)
     dp, h = 1e-3, 1.3e-3
     g = (np.arange(5) + 0.5) * dp
@@ -81,7 +81,7 @@ def test_momentum_pass_conserves_momentum_with_and_without_correction():
         assert np.abs(total).max() < 1e-12 * scale
 
 
-# ---- quadratic fit (solid.velocity_gradient: quadratic, sph_fsi_core/solid_mls.py) -------------------------------
+# ---- quadratic fit (solid.velocity_gradient: quadratic, sph_fsi_core/solid/fitted_gradient.py) -------------------------------
 
 def _beam_cloud(jitter=0.0, seed=0):
     """The paper's beam cross-section (4 x 6 particles) over 12 mm of length, optionally jittered."""
@@ -93,7 +93,7 @@ def _beam_cloud(jitter=0.0, seed=0):
 
 
 def _mls_setup(pos, h):
-    from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows, mls_pair_weights
+    from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, mls_pair_weights
     n = len(pos)
     mass = np.full(n, 1e-6)
     rho = np.full(n, 1000.0)
@@ -114,7 +114,7 @@ def test_quadratic_fit_gradient_is_exact_for_quadratic_fields_on_a_thin_beam():
     """Every particle of a 4-particle-thick bar, surfaces and corners included, gets the exact gradient of a
     quadratic velocity field (bending is one), where the kernel-corrected gradient is off by ~20 % at the outer
     fibres (test below)."""
-    from sph_fsi_core.solid_mls import xsph_velocity_and_mls_gradient
+    from sph_fsi_core.solid.fitted_gradient import xsph_velocity_and_mls_gradient
     pos, dp, h = _beam_cloud(jitter=0.05)
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     assert (order == 2).all()
@@ -150,7 +150,7 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
 def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power():
     """Pair forces are equal and opposite (sum m a = 0), and their power equals minus the stress power
     sum_a V_a sigma_a : L_a of the same gradient: the discrete system stores exactly the work it receives."""
-    from sph_fsi_core.solid_mls import MOMENTUM_BLOCK_COLUMNS, momentum_rate_mls, xsph_velocity_and_mls_gradient
+    from sph_fsi_core.solid.fitted_gradient import MOMENTUM_BLOCK_COLUMNS, momentum_rate_mls, xsph_velocity_and_mls_gradient
     pos, dp, h = _beam_cloud(jitter=0.05, seed=3)
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)

@@ -1,18 +1,18 @@
-"""Strain-gradient nodal integration (solid.nodal_integration = gradient, sph_fsi_core/solid_gradient_integration.py):
+"""Strain-gradient nodal integration (solid.nodal_integration = gradient, sph_fsi_core/solid/gradient_integration.py):
 the fit's Hessian, the force paired with it, energy, and what it changes on a beam against 3D elasticity.
 """
 import numpy as np
 import pytest
 
-from sph_fsi_core.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.oscillation import measure_frequency, period_averaged
+from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
+from sph_fsi_core.validation.oscillation import measure_frequency, period_averaged
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
-from sph_fsi_core.solid_gradient_integration import gradient_force_rows, gradient_strain_energy, velocity_hessian
-from sph_fsi_core.pair_blocks import block_scratch
-from sph_fsi_core.solid_mls import MOMENT_COUNT, MOMENTUM_BLOCK_COLUMNS, N_BASIS, mls_fit_rows, momentum_rate_mls
-from sph_fsi_core.tensors import SYM_INDEX
+from sph_fsi_core.solid.gradient_integration import gradient_force_rows, gradient_strain_energy, velocity_hessian
+from sph_fsi_core.numerics.pair_blocks import block_scratch
+from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, MOMENTUM_BLOCK_COLUMNS, N_BASIS, mls_fit_rows, momentum_rate_mls
+from sph_fsi_core.numerics.tensors import SYM_INDEX
 
 
 def _jittered_bar(seed):
@@ -136,7 +136,7 @@ def test_gradient_integration_brings_the_short_beam_towards_3d_elasticity(small_
     """12 x 3 x 4 mm at H/dp = 4. 3D elasticity (fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements,
     184.41 Hz with 0.5 mm, converging from above. Measured: plain 165.0 Hz (-10.5 % against 184.4), gradient
     172.9 Hz (-6.2 %; this stubby beam, L/H = 3, shears as much as it bends, and the term corrects bending)."""
-    from sph_fsi_core.fe_reference import cantilever_fe_frequency
+    from sph_fsi_core.validation.fe_reference import cantilever_fe_frequency
     fe = cantilever_fe_frequency(0.012, thickness=0.004, width=0.003, young_modulus=1.859e6, poisson_ratio=0.49,
                                  density=1000.0, element_size=1e-3)["vertical_hz"]
     plain, gradient = (small_beam[m][0]["frequency_hz"] for m in ("plain", "gradient"))

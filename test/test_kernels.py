@@ -1,12 +1,12 @@
-"""Tests of the M4 cubic spline kernel (sph_fsi_core.kernels) against the textbook formula, its normalisation,
+"""Tests of the M4 cubic spline kernel (sph_fsi_core.numerics.kernels) against the textbook formula, its normalisation,
 its gradient, and the SPH gradient of a linear field on a lattice."""
 import math
 
 import numpy as np
 import pytest
 
-from sph_fsi_core.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_f, cubic_spline_w
-from sph_fsi_core.neighbours import NeighbourList, pair_kernel_values
+from sph_fsi_core.numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_f, cubic_spline_w
+from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
 
 
 def textbook_w(r, h):

@@ -1,8 +1,8 @@
-"""Tests of the cell-linked-list neighbour search (sph_fsi_core.neighbours) against brute force."""
+"""Tests of the cell-linked-list neighbour search (sph_fsi_core.numerics.neighbours) against brute force."""
 import numpy as np
 import pytest
 
-from sph_fsi_core.neighbours import (MAX_CELLS_PER_AXIS, MIN_CELL_BUDGET, NeighbourList, _grid, chunk_first_target,
+from sph_fsi_core.numerics.neighbours import (MAX_CELLS_PER_AXIS, MIN_CELL_BUDGET, NeighbourList, cell_grid, chunk_first_target,
                                      inverse_periods, max_displacement, minimum_image)
 
 BOX = np.array([0.03, 0.02, 0.025])
@@ -111,7 +111,7 @@ def test_far_particle_clamps_grid():
     assert got == expected
     assert (2000, 2001) in got and (2001, 2000) in got   # the two far particles see each other
     assert nl.start[2003] - nl.start[2002] == 1           # the third only itself
-    _, cell_size, ncell = _grid(pos, radius + skin, np.zeros(3), np.zeros(3), np.zeros(3))
+    _, cell_size, ncell = cell_grid(pos, radius + skin, np.zeros(3), np.zeros(3), np.zeros(3))
     assert ncell.max() <= MAX_CELLS_PER_AXIS
     assert int(np.prod(ncell)) <= max(MIN_CELL_BUDGET, 8 * len(pos))
     assert cell_size[0] == pytest.approx((1e3 + 1e-3 - pos[:, 0].min()) / ncell[0], rel=1e-12)
@@ -121,13 +121,13 @@ def test_grid_size_bounded_when_a_particle_flies_off():
     """A diverging particle far away in all three axes must not blow up the cell grid.
 
     The cap is per axis (MAX_CELLS_PER_AXIS = 1024), so one particle at (1e3, 1e3, 1e3) m among 2000 gives
-    1024^3 = 1.07e9 cells: `_bin_sources` then allocates and scans an 8.6 GB int64 array (building that list took
+    1024^3 = 1.07e9 cells: `bin_sources` then allocates and scans an 8.6 GB int64 array (building that list took
     46 s and 8.6 GB here). Only the grid is computed below (cheap); the bound asked for is generous: at most
     32 cells per particle or 2^20 cells, whichever is larger.
     """
     pos = _random(2000, 15)
     pos = np.ascontiguousarray(np.concatenate([pos, [[1e3, 1e3, 1e3]]]))
-    _, cell_size, ncell = _grid(pos, 2.73e-3, np.zeros(3), np.zeros(3), np.zeros(3))
+    _, cell_size, ncell = cell_grid(pos, 2.73e-3, np.zeros(3), np.zeros(3), np.zeros(3))
     total = int(np.prod(ncell))
     assert total <= max(32 * len(pos), 2 ** 20), f"{total:.3g} cells ({ncell.tolist()}) for {len(pos)} particles"
 

@@ -1,4 +1,4 @@
-"""The block passes (sph_fsi_core/pair_blocks.py: gather, SIMD loop, scatter) against brute force.
+"""The block passes (sph_fsi_core/numerics/pair_blocks.py: gather, SIMD loop, scatter) against brute force.
 
 Each pass is checked against the same equation evaluated with NumPy over every pair of a small disordered cloud
 (no neighbour list, no blocks): eq. (1) for the fluid, eq. (5) for Gray's solid (with Monaghan's viscosity,
@@ -9,18 +9,18 @@ one axis is periodic, so the minimum-image and several-block paths are exercised
 import numpy as np
 import pytest
 
-from sph_fsi_core.fluid_okaji import DENSITY_BLOCK_COLUMNS, summation_density, xz_periodic_marker
-from sph_fsi_core.kernels import cubic_spline_f, cubic_spline_w
-from sph_fsi_core.fluid_neighbours import FluidNeighbourList
-from sph_fsi_core.neighbours import NeighbourList
-from sph_fsi_core.pair_blocks import BLOCK, block_scratch
-from sph_fsi_core.solid_gradient_integration import gradient_force_rows
-from sph_fsi_core.solid_gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
+from sph_fsi_core.fluid.okaji import DENSITY_BLOCK_COLUMNS, summation_density, xz_periodic_marker
+from sph_fsi_core.numerics.kernels import cubic_spline_f, cubic_spline_w
+from sph_fsi_core.fluid.neighbours import FluidNeighbourList
+from sph_fsi_core.numerics.neighbours import NeighbourList
+from sph_fsi_core.numerics.pair_blocks import BLOCK, block_scratch
+from sph_fsi_core.solid.gradient_integration import gradient_force_rows
+from sph_fsi_core.solid.gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
 from sph_fsi_core.schema import MAX_ART_EXPONENT
-from sph_fsi_core.solid_gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
-from sph_fsi_core.solid_mls import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls
-from sph_fsi_core.solid_mls import MOMENTUM_BLOCK_COLUMNS as MLS_COLUMNS
-from sph_fsi_core.tensors import SYM_INDEX
+from sph_fsi_core.solid.gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
+from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls
+from sph_fsi_core.solid.fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_COLUMNS
+from sph_fsi_core.numerics.tensors import SYM_INDEX
 
 DP = 1e-3
 H = 1.6e-3                          # a wide kernel, so that the first rows of the half list exceed one block
@@ -63,7 +63,7 @@ def _half_list(pos):
 @pytest.mark.parametrize("images", ["rows", "y", "all"])
 def test_summation_density_equals_the_sum_over_every_particle(images):
     """Each compilation of the pass against brute force, and all give the same bits: the minimum image along y only
-    (fluid_okaji.xz_periodic_marker(PERIOD)) and skipped in the rows the lists' `crossing` flags leave out
+    (okaji.xz_periodic_marker(PERIOD)) and skipped in the rows the lists' `crossing` flags leave out
     ("rows"), along y in every row ("y"), along every axis ("all")."""
     pos, rng = _cloud()
     n = len(pos)

@@ -22,7 +22,7 @@ import numpy as np
 import pyarrow as pa
 import pytest
 
-from sph_fsi_core.tensors import von_mises
+from sph_fsi_core.numerics.tensors import von_mises
 
 PYTHON = str(Path(sys.prefix) / "bin" / "python")
 RERUN = str(Path(sys.prefix) / "bin" / "rerun")

@@ -12,7 +12,7 @@ import pytest
 from sph_fsi.recording import Recorder
 from sph_fsi.recording.msgdefs import SEPARATOR, msgdef_text
 from sph_fsi.recording.writer import BackgroundWriter
-from sph_fsi_core.tensors import von_mises
+from sph_fsi_core.numerics.tensors import von_mises
 
 
 class FakeSim:

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from sph_fsi.cli import main
-from sph_fsi_core import references
-from sph_fsi_core.references import (beam_theory_frequency, cantilever_mode_velocity, clamped_free_mode_kl,
+from sph_fsi_core.validation import references
+from sph_fsi_core.validation.references import (beam_theory_frequency, cantilever_mode_velocity, clamped_free_mode_kl,
                                      fe3d_frequency, plate_frequency_eq15, read_reference_csv)
 from sph_fsi_core.scene import defaults_yaml, load_scene
 from sph_fsi_core.scenes import BUILDERS, cantilever

@@ -1,4 +1,4 @@
-"""Per-particle physics of the elastic solid (sph_fsi_core.solid_gray2001): material constants, the Jaumann
+"""Per-particle physics of the elastic solid (sph_fsi_core.solid.gray2001): material constants, the Jaumann
 stress rate, pressure / sigma over rho^2 / Gray's artificial stress, and the strain energy.
 
 The pair passes (XSPH and velocity gradient, continuity, momentum) are not tested here: their signatures are
@@ -9,8 +9,8 @@ import re
 import numpy as np
 import pytest
 
-from sph_fsi_core.solid_gray2001 import jaumann_stress_rate, material_constants, strain_energy, stress_terms
-from sph_fsi_core.tensors import to_matrices
+from sph_fsi_core.solid.gray2001 import jaumann_stress_rate, material_constants, strain_energy, stress_terms
+from sph_fsi_core.numerics.tensors import to_matrices
 
 E_PAPER, NU_PAPER, RHO_PAPER = 1.859e6, 0.49, 1000.0
 

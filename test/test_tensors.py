@@ -1,11 +1,11 @@
-"""Tests of sph_fsi_core.tensors: the Jacobi eigen-solver against numpy.linalg.eigh, von Mises stress, packing."""
+"""Tests of sph_fsi_core.numerics.tensors: the Jacobi eigen-solver against numpy.linalg.eigh, von Mises stress, packing."""
 import inspect
 import math
 
 import numpy as np
 import pytest
 
-from sph_fsi_core.tensors import SYM_INDEX, symmetric_eigen, to_matrices, unpack, von_mises
+from sph_fsi_core.numerics.tensors import SYM_INDEX, symmetric_eigen, to_matrices, unpack, von_mises
 
 
 def _rotation(rng, angle=None):

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from sph_fsi.points import PHASE_CODES, wall_positions
-from sph_fsi_core.tensors import von_mises
+from sph_fsi_core.numerics.tensors import von_mises
 
 __all__ = ["Frame", "Static", "Final", "capture", "capture_static"]
 

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from ..references import antoci_gate_tip
+from ..validation.references import antoci_gate_tip
 from . import gate
 from .gate import CONSERVATIVE, PHASES, build, sample, sample_fluid  # noqa: F401  (builder interface)
 

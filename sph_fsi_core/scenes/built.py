@@ -56,7 +56,7 @@ def check_layout(built, spacing):
     would otherwise start with particles on top of each other, i.e. infinite pressures at t = 0. The check uses the
     same cell lists as the physics, with a cutoff of half a spacing, so it costs one neighbour build.
     """
-    from ..neighbours import NeighbourList
+    from ..numerics.neighbours import NeighbourList
     from ..schema import SceneError
     bodies = [(name, state.pos) for name, state in (("solid", built.solid), ("fluid", built.fluid),
                                                     ("wall", built.walls)) if state is not None and len(state.pos)]

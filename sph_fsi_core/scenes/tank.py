@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
 from ..schema import SceneError
 
 

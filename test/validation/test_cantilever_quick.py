@@ -9,8 +9,8 @@ energy and grow no sideways motion. About four minutes on 2 cores.
 """
 import json
 
-from sph_fsi_core.references import read_reference_csv
-from sph_fsi_core.validation import main as validate
+from sph_fsi_core.validation.references import read_reference_csv
+from sph_fsi_core.validation.ladder import main as validate
 
 
 def test_quick_cantilever_ladder_within_bounds(tmp_path):

@@ -12,8 +12,8 @@ experiment to 1.5 % RMS, and its speed dZ/dT over T = 1.5..3 is within 5 % of th
 """
 import json
 
-from sph_fsi_core.references import martin_moyce_front
-from sph_fsi_core.validation import main as validate
+from sph_fsi_core.validation.references import martin_moyce_front
+from sph_fsi_core.validation.ladder import main as validate
 
 
 def test_quick_fluid_cases_within_bounds(tmp_path):

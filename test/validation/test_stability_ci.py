@@ -1,4 +1,4 @@
-"""The CI subset of `sph-fsi stability` (sph_fsi_core/stability.py): each case ends as its table says.
+"""The CI subset of `sph-fsi stability` (sph_fsi_core/validation/stability.py): each case ends as its table says.
 
 Stiff (steel, E = 2e11 Pa) and soft (E = 1e5 Pa) beams run stably for two of their own periods with the time
 step the sound speed dictates; inputs that cannot work (nu = 0.5, E = 0, a forced step 10x the stable limit, a
@@ -7,7 +7,7 @@ range; no case writes a NaN.
 """
 import pytest
 
-from sph_fsi_core import stability
+from sph_fsi_core.validation import stability
 
 
 @pytest.fixture(scope="module")

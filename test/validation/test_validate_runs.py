@@ -1,8 +1,8 @@
 """`sph-fsi validate`'s bookkeeping: rungs that are the same run are run once."""
 import json
 
-from sph_fsi_core import validation
-from sph_fsi_core.validation import Rung
+from sph_fsi_core.validation import ladder as validation
+from sph_fsi_core.validation.cases import Rung
 
 
 def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch):
@@ -11,7 +11,7 @@ def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch
     def fake_run(args):
         rung, out_dir = args
         calls.append(rung.key)
-        d = validation._rung_dir(out_dir, rung)
+        d = validation.rung_dir(out_dir, rung)
         d.mkdir(parents=True)
         (d / "summary.json").write_text(json.dumps({"stable": True, "error": 0.01}))
         return {"stable": True}
@@ -26,5 +26,5 @@ def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch
     assert set(found) == {"ladder/H4", "length/L40", "length/L60"}
     # the real table: the sweep's L = 40 mm is the ladder's H/dp = 4
     rungs = {r.key: r for r in validation.all_rungs()}
-    assert validation._same_run(rungs["cantilever_length/L40"]) == validation._same_run(
+    assert validation.same_run(rungs["cantilever_length/L40"]) == validation.same_run(
         rungs["cantilever_ladder/H_over_dp_4"])

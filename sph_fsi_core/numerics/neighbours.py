@@ -4,7 +4,7 @@ A `NeighbourList` holds, for each target particle a, the source particles b with
 (2h plus a skin) in compressed rows: `start[a]:start[a+1]` index `index`. A full list has every pair in both
 rows (and a's own pair), so a pass over it is a gather, race-free in parallel. A half list (targets and sources
 the same set) keeps each pair once, b > a, no self pair: a pass over it evaluates each pair once and adds to both
-particles, through per-chunk buffers (see solid_gray2001.py; chunk_first_target cuts the targets into chunks
+particles, through per-chunk buffers (see solid/gray2001.py; chunk_first_target cuts the targets into chunks
 of equal work); that halves the kernel and pair arithmetic. The skin lets a list serve many steps: it is rebuilt
 only once some particle has moved more than half the skin since the build (Verlet's criterion).
 
@@ -35,7 +35,7 @@ def unsigned(k):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _cell_coordinates(pos, lo, cell_size, ncell, period):
+def cell_coordinates(pos, lo, cell_size, ncell, period):
     """Integer cell coordinates of each point: wrapped on periodic axes, clamped into the grid on open ones.
 
     Clamping is safe: a point beyond the grid's edge lands in the edge cell, and every point within the cutoff
@@ -57,7 +57,7 @@ def _cell_coordinates(pos, lo, cell_size, ncell, period):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _bin_sources(cell, ncell):
+def bin_sources(cell, ncell):
     """Counting sort of source points by linear cell id: returns (cell_start, order)."""
     n = cell.shape[0]
     ncells = ncell[0] * ncell[1] * ncell[2]
@@ -78,7 +78,7 @@ def _bin_sources(cell, ncell):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _wrapped_cells(c, n, periodic, out):
+def wrapped_cells(c, n, periodic, out):
     """Neighbouring cell coordinates along one axis (c-1, c, c+1), wrapped or cut at the edges; returns count."""
     m = 0
     for d in range(-1, 2):
@@ -154,9 +154,9 @@ def _scan_pairs(targets, sources, tcell, cell_start, order, ncell, period, cutof
         cx = np.empty(3, dtype=np.int64)
         cy = np.empty(3, dtype=np.int64)
         cz = np.empty(3, dtype=np.int64)
-        nx = _wrapped_cells(tcell[a, 0], ncell[0], period[0] > 0.0, cx)
-        ny = _wrapped_cells(tcell[a, 1], ncell[1], period[1] > 0.0, cy)
-        nz = _wrapped_cells(tcell[a, 2], ncell[2], period[2] > 0.0, cz)
+        nx = wrapped_cells(tcell[a, 0], ncell[0], period[0] > 0.0, cx)
+        ny = wrapped_cells(tcell[a, 1], ncell[1], period[1] > 0.0, cy)
+        nz = wrapped_cells(tcell[a, 2], ncell[2], period[2] > 0.0, cz)
         count = 0
         slot = start[a] if fill else 0
         for ix in range(nx):
@@ -237,7 +237,7 @@ def max_displacement(pos, pos_at_build):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _bounds(points):
+def position_bounds(points):
     """(lowest, highest) coordinate per axis of (N, 3) points, zeros for none: one pass (NumPy's min(axis=0) on a
     C-ordered (N, 3) array took 0.27 ms at 10^4 points, most of a fluid list's grid set-up)."""
     lo = np.zeros(3)
@@ -256,13 +256,13 @@ def _bounds(points):
     return lo, hi
 
 
-def _grid(points, cutoff, period, box_lo, box_hi):
+def cell_grid(points, cutoff, period, box_lo, box_hi):
     """Cell grid over the points (periodic axes: over the box), cells at least `cutoff` wide.
 
     The number of cells is bounded by max(MIN_CELL_BUDGET, 8 N): a particle flung far away (a diverging run)
     coarsens the grid on the open axes instead of allocating a huge one.
     """
-    lo, hi = _bounds(points)
+    lo, hi = position_bounds(points)
     cell_size = np.empty(3)
     ncell = np.empty(3, dtype=np.int64)
     for k in range(3):
@@ -316,7 +316,7 @@ class NeighbourList:
         self.start = np.zeros(1, dtype=np.int64)
         self.index = np.zeros(0, dtype=INDEX_DTYPE)
         self.builds = 0
-        self._targets_at_build = None
+        self.targets_at_build = None
         self._sources_at_build = None
         self.crossing = np.zeros(0, dtype=np.bool_)
         # 10 % more than the skin, so that round-off in the staleness test cannot matter
@@ -324,10 +324,10 @@ class NeighbourList:
 
     def build(self, targets, sources):
         """Rebuild the lists for the current positions."""
-        lo, cell_size, ncell = _grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
-        scell = _cell_coordinates(sources, lo, cell_size, ncell, self.period)
-        tcell = _cell_coordinates(targets, lo, cell_size, ncell, self.period)
-        cell_start, order = _bin_sources(scell, ncell)
+        lo, cell_size, ncell = cell_grid(sources, self.cutoff, self.period, self.box_lo, self.box_hi)
+        scell = cell_coordinates(sources, lo, cell_size, ncell, self.period)
+        tcell = cell_coordinates(targets, lo, cell_size, ncell, self.period)
+        cell_start, order = bin_sources(scell, ncell)
         start = np.zeros(len(targets) + 1, dtype=np.int64)
         dummy = np.zeros(0, dtype=INDEX_DTYPE)
         if self.half and sources is not targets:
@@ -343,15 +343,15 @@ class NeighbourList:
             self.crossing = rows_near_a_periodic_face(targets, sources, start, index, self._near_face)
         else:
             self.crossing = np.zeros(len(targets), dtype=np.bool_)
-        self._targets_at_build = targets.copy()
+        self.targets_at_build = targets.copy()
         self._sources_at_build = None if sources is targets else sources.copy()
         self.builds += 1
 
     def is_stale(self, targets, sources):
         """True once some target or source has moved more than half the skin since the last build."""
-        if self._targets_at_build is None or len(targets) != len(self._targets_at_build):
+        if self.targets_at_build is None or len(targets) != len(self.targets_at_build):
             return True
-        moved = max_displacement(targets, self._targets_at_build)
+        moved = max_displacement(targets, self.targets_at_build)
         if self._sources_at_build is not None:
             moved = max(moved, max_displacement(sources, self._sources_at_build))
         return moved > 0.5 * self.skin

@@ -15,11 +15,11 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .kernels import cubic_spline_wf
-from .neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
-from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
+from ..numerics.kernels import cubic_spline_wf
+from ..numerics.neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
+from ..numerics.pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
-from .tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
+from ..numerics.tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -56,7 +56,7 @@ def xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, st
     V_b dv (x) g to L_a and V_a dv (x) g to L_b (grad_b W_ba = -g and v_a - v_b = -dv), and m/rhobar W dv with
     opposite signs to the two XSPH sums. Each chunk of rows accumulates into its own slice of `buf`
     (chunks, N, 21), so there are no write races; a second loop sums the chunks. volume: V = m / rho per
-    particle (solid_stepper.particle_volumes).
+    particle (solid.stepper.particle_volumes).
 
     correct_gradient: also sum K_a = sum_b V_b (r_b - r_a) (x) grad_a W_ab and return L K^-1, the velocity
     gradient that is exact for linear fields also where the kernel is truncated (free surfaces); K^-1 is left
@@ -204,7 +204,7 @@ def continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, d
     Half list: the pair's (vhat_a - vhat_b) . grad_a W_ab is the same seen from b, so it adds V_b times it to a's
     sum and V_a times it to b's (chunked buffers as in xsph_velocity_and_gradient, here (chunks, N): a column
     of the wide buffer would pull all of it through the cache for one number per particle). volume: V = m / rho
-    per particle, divided once per step rather than once per pair (solid_stepper.particle_volumes). crossing: as
+    per particle, divided once per step rather than once per pair (solid.stepper.particle_volumes). crossing: as
     in xsph_velocity_and_gradient.
     """
     inv_period = inverse_periods(period)

@@ -10,7 +10,7 @@ One step of size dt, with a^n the acceleration at r^n (from the previous step):
     v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}                          (kick)
 
 Second order, three passes over the pairs per step (four with solid.nodal_integration = gradient, whose stress
-gradient advances with S: solid_gradient_integration.py). The artificial viscosity in a^{n+1} uses v^{n+1/2} (the
+gradient advances with S: solid/gradient_integration.py). The artificial viscosity in a^{n+1} uses v^{n+1/2} (the
 velocity at n+1 is not known yet).
 
 Clamp particles (movable False) keep r fixed. With solid.clamp = fixed they keep v = 0 but update rho and S (clamp
@@ -30,15 +30,15 @@ import numba
 import numpy as np
 from numba import njit
 
-from .kernels import cubic_spline_w
-from .neighbours import max_displacement
-from .pair_blocks import block_scratch
-from .solid_gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_BLOCK_COLUMNS
-from .solid_gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
+from ..numerics.kernels import cubic_spline_w
+from ..numerics.neighbours import max_displacement
+from ..numerics.pair_blocks import block_scratch
+from .gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_BLOCK_COLUMNS
+from .gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
                              xsph_velocity_and_gradient)
-from .solid_gradient_integration import gradient_force_rows, stress_gradient_rate, velocity_hessian
-from .solid_mls import MOMENTUM_BLOCK_COLUMNS as MLS_BLOCK_COLUMNS
-from .solid_mls import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
+from .gradient_integration import gradient_force_rows, stress_gradient_rate, velocity_hessian
+from .fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_BLOCK_COLUMNS
+from .fitted_gradient import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
 # solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
 # (docs/validation/FINDINGS.md: with rows kept from one list build to the next, 46 % of the paper's beam's energy
@@ -106,9 +106,9 @@ class SolidWork:
         self.eig_work[:, 3:6] = np.eye(3)   # eigenvector guesses, warm-started from step to step
         self.kinv = np.zeros((n, 3, 3))
         self.kinv[:] = np.eye(3)            # kernel-gradient correction K^-1 (identity until first computed)
-        # quadratic fit: rows 0..2 of M^-1 (solid_mls.py), 0..8 with the strain-gradient integration
+        # quadratic fit: rows 0..2 of M^-1 (solid/fitted_gradient.py), 0..8 with the strain-gradient integration
         self.mls_rows = np.zeros((n, N_BASIS if hessian_rows else 3, N_BASIS))
-        m = n if hessian_rows else 0   # solid_gradient_integration.py's arrays, empty when it is off
+        m = n if hessian_rows else 0   # solid/gradient_integration.py's arrays, empty when it is off
         self.hessian = np.zeros((m, 3, 6))
         self.dstress_gradient = np.zeros((m, 3, 6))
         self.force_rows = np.zeros((m, 3, N_BASIS))

@@ -13,8 +13,8 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-from .fluid_okaji import _separation, xz_periodic_marker
-from .neighbours import (INDEX_DTYPE, NeighbourList, _bin_sources, _cell_coordinates, _grid, _wrapped_cells,
+from .okaji import fluid_separation, xz_periodic_marker
+from ..numerics.neighbours import (INDEX_DTYPE, NeighbourList, bin_sources, cell_coordinates, cell_grid, wrapped_cells,
                          unsigned)
 
 
@@ -39,12 +39,12 @@ def _first_above(order, first, end, a):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _neighbour_cells(x, lo, size, c, n, periodic, cells, gaps2):
-    """The cells around coordinate x along one axis (c - 1, c, c + 1 as _wrapped_cells gives them, in its order)
+    """The cells around coordinate x along one axis (c - 1, c, c + 1 as wrapped_cells gives them, in its order)
     and each one's squared gap to x: how far x is from the cell's slab (0 for its own cell). A cell whose gaps on
     the three axes add up to more than the cutoff squared holds no neighbour, so the scan skips it without
     reading its sources (a corner cell of the 27 is out of reach about half the time, an edge cell a fifth).
     On a periodic axis of fewer than 3 cells the gaps are taken as 0 (a cell may be both neighbours)."""
-    m = _wrapped_cells(c, n, periodic, cells)
+    m = wrapped_cells(c, n, periodic, cells)
     if periodic:
         if n < 3:
             for k in range(m):
@@ -70,7 +70,7 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_
     whether any of its pairs is `near_y` or farther apart along y as stored, before the minimum image: see
     FluidNeighbourList.crossing). Cells out of reach are skipped (_neighbour_cells; the margin keeps a source on a
     cell's face from being lost to round-off). on_x, on_y, on_z: the axes to take the minimum image on (constants:
-    fluid_okaji.xz_periodic_marker)."""
+    okaji.xz_periodic_marker)."""
     xa, ya, za = targets[a, 0], targets[a, 1], targets[a, 2]
     nx = _neighbour_cells(xa, lo[0], cell_size[0], tcell[a, 0], ncell[0], period[0] > 0.0, cx, gx)
     ny = _neighbour_cells(ya, lo[1], cell_size[1], tcell[a, 1], ncell[1], period[1] > 0.0, cy, gy)
@@ -90,10 +90,10 @@ def _scan_target(a, targets, sorted_sources, tcell, cell_start, order, lo, cell_
                     first = _first_above(order, first, end, a)
                 for s in range(unsigned(first), unsigned(end)):
                     b = order[s]
-                    dx = _separation(xa - sorted_sources[s, 0], period[0], half_period[0], on_x)
+                    dx = fluid_separation(xa - sorted_sources[s, 0], period[0], half_period[0], on_x)
                     stored_dy = ya - sorted_sources[s, 1]
-                    dy = _separation(stored_dy, period[1], half_period[1], on_y)
-                    dz = _separation(za - sorted_sources[s, 2], period[2], half_period[2], on_z)
+                    dy = fluid_separation(stored_dy, period[1], half_period[1], on_y)
+                    dz = fluid_separation(za - sorted_sources[s, 2], period[2], half_period[2], on_z)
                     if dx * dx + dy * dy + dz * dz < cutoff2:
                         if slot + count < capacity:
                             out[slot + count] = b
@@ -114,9 +114,9 @@ def _stencil_scratch():
 def _scan_into_chunks(targets, sorted_sources, tcell, cell_start, order, lo, cell_size, ncell, period, xz_periodic,
                       cutoff, half, near_y, scanned, counts, crossing, buffers, used):
     """One scan over the candidate pairs (neighbours._scan_pairs with the sources' positions in cell order and a
-    division-free minimum image, fluid_okaji._image: the fluid's positions are wrapped into the periodic box after
+    division-free minimum image, okaji._image: the fluid's positions are wrapped into the periodic box after
     every step and move less than the skin within one, so one shift by the period is always enough), along y only
-    unless `xz_periodic` (fluid_okaji.xz_periodic_marker).
+    unless `xz_periodic` (okaji.xz_periodic_marker).
 
     Chunk c (targets n c / C .. n (c + 1) / C) appends its targets' rows, in order, to buffers[c], their
     lengths to counts[a + 1] and their near_y flags (_scan_target) to crossing[a]; used[c] = the length of all its
@@ -172,7 +172,7 @@ def _fill_rows(targets, sorted_sources, tcell, cell_start, order, lo, cell_size,
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _inside_box(points, lo, hi):
+def inside_box(points, lo, hi):
     """Indices (ascending) of the points with lo <= x <= hi on every axis: one pass (NumPy's comparisons and
     all(axis=1) on (N, 3) arrays, with the bounds' min(axis=0), took 8 ms of a 72 ms rebuild at 10^5 fluid
     particles)."""
@@ -202,7 +202,7 @@ def named_in(index, n):
 
 
 class SourceGrid(NamedTuple):
-    """Sources binned into cells at least one cutoff wide (neighbours._grid): what a scan over them needs."""
+    """Sources binned into cells at least one cutoff wide (neighbours.cell_grid): what a scan over them needs."""
     lo: np.ndarray
     cell_size: np.ndarray
     ncell: np.ndarray
@@ -214,9 +214,9 @@ class SourceGrid(NamedTuple):
 
 def source_grid(sources, cutoff, period, box_lo, box_hi):
     """The SourceGrid of `sources` for lists with this cutoff and periodicity."""
-    lo, cell_size, ncell = _grid(sources, cutoff, period, box_lo, box_hi)
-    cells = _cell_coordinates(sources, lo, cell_size, ncell, period)
-    cell_start, order = _bin_sources(cells, ncell)
+    lo, cell_size, ncell = cell_grid(sources, cutoff, period, box_lo, box_hi)
+    cells = cell_coordinates(sources, lo, cell_size, ncell, period)
+    cell_start, order = bin_sources(cells, ncell)
     return SourceGrid(lo, cell_size, ncell, cells, cell_start, order, np.ascontiguousarray(sources[order]))
 
 
@@ -267,7 +267,7 @@ class FluidNeighbourList(NeighbourList):
         if self.half and sources is not targets:
             raise ValueError("a half neighbour list needs targets and sources to be the same array")
         g = self._grid_for(sources) if grid is None else grid
-        tcell = g.cells if sources is targets else _cell_coordinates(targets, g.lo, g.cell_size, g.ncell,
+        tcell = g.cells if sources is targets else cell_coordinates(targets, g.lo, g.cell_size, g.ncell,
                                                                      self.period)
         n = len(targets)
         chunks = max(numba.get_num_threads(), 1)
@@ -296,6 +296,6 @@ class FluidNeighbourList(NeighbourList):
             self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)
         self.start, self.index, self.crossing = start, index, crossing
         self.grid = g
-        self._targets_at_build = targets.copy()
+        self.targets_at_build = targets.copy()
         self._sources_at_build = None if sources is targets else sources.copy()
         self.builds += 1

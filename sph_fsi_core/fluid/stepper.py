@@ -18,13 +18,13 @@ times its relative compression, so what sets the iteration's stability and speed
 fluid.correction_coefficient = 0 (the default) takes c = kappa h / dt with kappa = fluid.correction_kappa, so the
 iteration behaves the same at any dt; a positive value fixes c in m/s (then a large dt can make it unstable).
 
-Neighbour lists (fluid_neighbours.py): fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall
+Neighbour lists (fluid/neighbours.py): fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall
 pressure; only wall particles within reach of the water's bounding box), cutoff 2h + skin, built at r* when some
 particle has moved more than half the skin since the last build and reused by every iteration of the step (and by
 later steps while valid); every position correction measures how far particles have moved since the build, and the
 loop returns for a rebuild mid-step if one may have crossed half the skin.
 
-Pressure output: FluidState.pressure is the sum of the step's iteration pressures (fluid_okaji.py's docstring).
+Pressure output: FluidState.pressure is the sum of the step's iteration pressures (fluid/okaji.py's docstring).
 """
 import math
 from typing import NamedTuple
@@ -33,13 +33,13 @@ import numba
 import numpy as np
 from numba import njit
 
-from .fluid_neighbours import FluidNeighbourList, _inside_box, named_in
-from .fluid_okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
+from .neighbours import FluidNeighbourList, inside_box, named_in
+from .okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
-from .kernels import SUPPORT_RADIUS_IN_H
-from .neighbours import INDEX_DTYPE, _bounds
-from .pair_blocks import block_scratch
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..numerics.neighbours import INDEX_DTYPE, position_bounds
+from ..numerics.pair_blocks import block_scratch
 
 CONVERGED, CAPPED, NEEDS_REBUILD = 0, 1, 2
 
@@ -108,10 +108,10 @@ class FluidSolver:
         n = fluid.count
         radius = SUPPORT_RADIUS_IN_H * self.h
         self.skin = float(skin)
-        # half list: each fluid pair once (fluid_okaji.py), which halves the pair work of every pass and the build
+        # half list: each fluid pair once (fluid/okaji.py), which halves the pair work of every pass and the build
         self.fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
                                                    half=True)
-        self.xz_periodic = self.fluid_neighbours.xz_periodic   # the passes' (fluid_okaji.xz_periodic_marker)
+        self.xz_periodic = self.fluid_neighbours.xz_periodic   # the passes' (okaji.xz_periodic_marker)
         # the fixed walls' grid is made once (with a solid in the boundary it moves and is remade)
         self.wall_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
                                                   keep_grid_while_sources_stay=True)
@@ -168,13 +168,13 @@ class FluidSolver:
             # Only wall particles within the cutoff of the water's bounding box can have fluid neighbours; the
             # others would be clamped into the grid's edge cells and scan them for nothing.
             reach = self.wall_fluid_neighbours.cutoff
-            lo, hi = _bounds(pos)
+            lo, hi = position_bounds(pos)
             lo -= reach
             hi += reach
             for k in range(3):
                 if self.period[k] > 0.0:
                     lo[k], hi[k] = -np.inf, np.inf
-            self.active_walls = _inside_box(self.wall_pos, lo, hi)
+            self.active_walls = inside_box(self.wall_pos, lo, hi)
             # the fluid's grid, just made by the half list's build
             self.wall_fluid_neighbours.build(np.ascontiguousarray(self.wall_pos[self.active_walls]), pos,
                                              grid=self.fluid_neighbours.grid)
@@ -183,7 +183,7 @@ class FluidSolver:
             # they are scanned (at 10^5 fluid particles in the dam break, 1 in 6; 17 of a 93 ms rebuild before).
             self.wall_neighbours.build(pos, self.wall_pos,
                                        scanned=named_in(self.wall_fluid_neighbours.index, len(pos)))
-            # a fluid target's rows: fluid and wall (fluid_neighbours.FluidNeighbourList.crossing)
+            # a fluid target's rows: fluid and wall (fluid.neighbours.FluidNeighbourList.crossing)
             self.crossing = self.fluid_neighbours.crossing | self.wall_neighbours.crossing
             self.wall_crossing = self.wall_fluid_neighbours.crossing
             self.wall_p_over_rho2[:] = 0.0
@@ -247,7 +247,7 @@ class FluidSolver:
                 self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
                 wfstart, wfindex, self.period, self.xz_periodic, self.crossing, self.wall_crossing, self.h, self.rho0,
                 c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations, self.max_iterations,
-                nb._targets_at_build, 0.5 * self.skin, self.disp, fl.correction_displacement, self.moved2, self.buf,
+                nb.targets_at_build, 0.5 * self.skin, self.disp, fl.correction_displacement, self.moved2, self.buf,
                 self.density_buf, self.blocks)
             if status != NEEDS_REBUILD:
                 break

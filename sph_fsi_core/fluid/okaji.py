@@ -4,9 +4,9 @@ Each function is one pass over the fluid particles (targets) and their neighbour
 list (each pair once, b > a, the particle's own pair not listed), evaluated once per pair and added to both
 particles through per-chunk buffers `buf` (chunks, N, 3) (no write races under prange; a second loop sums the
 chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. The step driver
-that calls them in order is fluid_stepper.py. Their `xz_periodic` argument (xz_periodic_marker) says whether the
+that calls them in order is fluid/stepper.py. Their `xz_periodic` argument (xz_periodic_marker) says whether the
 pair loops take the minimum image along y only or along every axis; along y only, a target whose `crossing` flag
-is off (fluid_neighbours.FluidNeighbourList.crossing: its pairs stay within half a period of each other as
+is off (fluid.neighbours.FluidNeighbourList.crossing: its pairs stay within half a period of each other as
 stored) skips it too, which gives the same bits.
 
 Choices where the paper is open (docs/method.md, "Fluid"):
@@ -32,9 +32,9 @@ import math
 
 from numba import njit, prange
 
-from .kernels import cubic_spline_wf
-from .neighbours import chunk_first_target, unsigned
-from .pair_blocks import BLOCK, FAR_IN_H, STRIDE, kernel_block, pad_block, padded
+from ..numerics.kernels import cubic_spline_wf
+from ..numerics.neighbours import chunk_first_target, unsigned
+from ..numerics.pair_blocks import BLOCK, FAR_IN_H, STRIDE, kernel_block, pad_block, padded
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -60,7 +60,7 @@ def xz_periodic_marker(period):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _separation(d, period, half_period, periodic):
+def fluid_separation(d, period, half_period, periodic):
     """d through _image when `periodic` (a constant at every call site, so the test compiles away), d itself
     otherwise. (_image returns d on an axis that is not periodic, so both give the same bits there.)"""
     if periodic:
@@ -89,14 +89,14 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
     """Eq. (1)'s sum over one neighbour row (index[k0:k1] into src_pos), in blocks: returns s + sum_b m_b W_ab
     (added in the row's order) and leaves F_ab in f_cache[k0:k1]; with scatter_mass > 0 (a half list of the fluid)
     also adds scatter_mass W_ab to out[b]. Pairs in the list's skin give W = F = 0 and change no sum. on_x, on_y,
-    on_z: the axes to take the minimum image on (constants, _separation)."""
+    on_z: the axes to take the minimum image on (constants, fluid_separation)."""
     for lo in range(k0, k1, BLOCK):
         m = min(BLOCK, k1 - lo)
         for j in range(m):
             b = index[unsigned(lo + j)]
-            dx = _separation(xa - src_pos[b, 0], period[0], half_period[0], on_x)
-            dy = _separation(ya - src_pos[b, 1], period[1], half_period[1], on_y)
-            dz = _separation(za - src_pos[b, 2], period[2], half_period[2], on_z)
+            dx = fluid_separation(xa - src_pos[b, 0], period[0], half_period[0], on_x)
+            dy = fluid_separation(ya - src_pos[b, 1], period[1], half_period[1], on_y)
+            dz = fluid_separation(za - src_pos[b, 2], period[2], half_period[2], on_z)
             block[_R2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
         pad_block(block, m, _R2, (FAR_IN_H * h) ** 2, 0, 0, 0.0)
         kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma)
@@ -193,9 +193,9 @@ def _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, 
     den = 0.0
     for k in range(wfstart[i], wfstart[i + 1]):
         f = wfindex[k]
-        dx = _separation(wall_pos[w, 0] - pos[f, 0], period[0], half_period[0], on_x)
-        dy = _separation(wall_pos[w, 1] - pos[f, 1], period[1], half_period[1], on_y)
-        dz = _separation(wall_pos[w, 2] - pos[f, 2], period[2], half_period[2], on_z)
+        dx = fluid_separation(wall_pos[w, 0] - pos[f, 0], period[0], half_period[0], on_x)
+        dy = fluid_separation(wall_pos[w, 1] - pos[f, 1], period[1], half_period[1], on_y)
+        dz = fluid_separation(wall_pos[w, 2] - pos[f, 2], period[2], half_period[2], on_z)
         kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
         num += p[f] * kern
         den += kern
@@ -241,17 +241,17 @@ def _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_po
     for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):
         b = findex[k]
         coef = (qa + p_over_rho2[b]) * f_fluid[k]
-        dx = coef * _separation(xa - pos[b, 0], px, hx, on_x)
-        dy = coef * _separation(ya - pos[b, 1], py, hy, on_y)
-        dz = coef * _separation(za - pos[b, 2], pz, hz, on_z)
+        dx = coef * fluid_separation(xa - pos[b, 0], px, hx, on_x)
+        dy = coef * fluid_separation(ya - pos[b, 1], py, hy, on_y)
+        dz = coef * fluid_separation(za - pos[b, 2], pz, hz, on_z)
         ax, ay, az = _pair_to_both(out, b, mass[b], ma, dx, dy, dz, ax, ay, az)
     for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
         b = windex[k]
         coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
         if coef != 0.0:
-            ax += coef * _separation(xa - wall_pos[b, 0], px, hx, on_x)
-            ay += coef * _separation(ya - wall_pos[b, 1], py, hy, on_y)
-            az += coef * _separation(za - wall_pos[b, 2], pz, hz, on_z)
+            ax += coef * fluid_separation(xa - wall_pos[b, 0], px, hx, on_x)
+            ay += coef * fluid_separation(ya - wall_pos[b, 1], py, hy, on_y)
+            az += coef * fluid_separation(za - wall_pos[b, 2], pz, hz, on_z)
     return ax, ay, az
 
 
@@ -342,9 +342,9 @@ def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, hal
     sx = sy = sz = 0.0
     for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):   # pairs in the skin add zeros
         b = findex[k]
-        dx = _separation(xa - pos[b, 0], px, hx, on_x)
-        dy = _separation(ya - pos[b, 1], py, hy, on_y)
-        dz = _separation(za - pos[b, 2], pz, hz, on_z)
+        dx = fluid_separation(xa - pos[b, 0], px, hx, on_x)
+        dy = fluid_separation(ya - pos[b, 1], py, hy, on_y)
+        dz = fluid_separation(za - pos[b, 2], pz, hz, on_z)
         r2 = dx * dx + dy * dy + dz * dz
         coef = (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
         tx = coef * (vel[a, 0] - vel[b, 0])

@@ -98,7 +98,7 @@ def solid_cases():
 
 def fluid_cases():
     """Cases of the fluid scenes that exist (the fluid may be absent from an older checkout)."""
-    from .scenes import BUILDERS
+    from ..scenes import BUILDERS
     cases = []
     if "dam_break" in BUILDERS:
         cases += [
@@ -116,7 +116,7 @@ def gate_cases():
     A fixed 0.04 s: the fluid sets the time scale here (the water reaches the gate's free end and pushes it), not
     the gate's own period; the solid sub-steps follow the solid's sound speed, so steel costs ~50x rubber.
     """
-    from .scenes import BUILDERS
+    from ..scenes import BUILDERS
     if "elastic_gate" not in BUILDERS:
         return []
     base = {"numerics.spacing": 0.002, "geometry.gate_clamp_height": 0.004, "coupling.model": "pressure"}
@@ -133,7 +133,7 @@ def gate_cases():
 
 
 def tall_column_cases():
-    from .scenes import BUILDERS
+    from ..scenes import BUILDERS
     if "dam_break" not in BUILDERS:
         return []
     a = 0.05715
@@ -159,9 +159,9 @@ def _timing(case, spec):
 
 def run_case(case, out_dir):
     """Run one case; returns its result row (dict)."""
-    from .run import run_scene
-    from .scene import load_scene
-    from .schema import SceneError
+    from ..run import run_scene
+    from ..scene import load_scene
+    from ..schema import SceneError
     row = {"case": case.name, "scene": case.scene, "expect": case.expect, "why": case.why,
            "overrides": {k: v for k, v in case.overrides.items()}}
     t0 = time.perf_counter()
@@ -239,7 +239,7 @@ def _energy_drift(run_dir):
 
 def _conservative(scene):
     """Energy drift means something only where nothing feeds energy in (no gravity work, no inflow)."""
-    from .scenes import BUILDERS
+    from ..scenes import BUILDERS
     return bool(getattr(BUILDERS[scene], "CONSERVATIVE", False))
 
 
@@ -305,7 +305,7 @@ def _merged_with_earlier(out_dir, rows):
 
 
 def main(ci=False, out_dir="docs/validation", names=()):
-    from .run import machine_info
+    from ..run import machine_info
     cases = [c for c in all_cases() if (c.ci or not ci) and (not names or any(n in c.name for n in names))]
     Path(out_dir).mkdir(parents=True, exist_ok=True)
     rows = []

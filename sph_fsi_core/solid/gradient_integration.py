@@ -15,12 +15,12 @@ bending it carries all but 1 % of the energy at nu = 0.49 (87 % at nu = 0.3), wh
 K = 50 G at nu = 0.49, penalised the fit's volumetric strain gradient so hard that the paper's beam came out 5 %
 stiff with its first mode trading energy away within a period (docs/validation/FINDINGS.md).
 
-The quadratic fit of solid_mls.py already determines the velocity's second derivatives: with rows 3..8 of M_a^-1,
+The quadratic fit of solid/fitted_gradient.py already determines the velocity's second derivatives: with rows 3..8 of M_a^-1,
     d_j d_k v_a = sum_b (v_b - v_a) Gh_ab[jk],   Gh_ab = V_b W_ab (rows 3..8 of M_a^-1) p(u_ab) / h^2
 (six entries xx, yy, zz, xy, xz, yz; the passes apply the rows once per particle instead of storing Gh per
 pair). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is state:
     dT[k]/dt = 2 G dev(e_k) + spin and convection terms (stress_gradient_rate),   e_k = d_k of the strain rate,
-and its force is the one whose power is sum_a V_a m sum_k T_a[k] : d_k L_a (as F_ab of solid_mls.py):
+and its force is the one whose power is sum_a V_a m sum_k T_a[k] : d_k L_a (as F_ab of solid/fitted_gradient.py):
     F_ab,i = Phi_ab,i - Phi_ba,i,   Phi_ab,i = V_a m sum_jk T_a[k]_ij Gh_ab[jk],   +F on a, -F on b,
 so momentum is conserved to round-off and the energy stored is the work done. Particles whose fit fell back to
 linear (fewer than three layers) have zero Hessian rows and no correction.
@@ -28,8 +28,8 @@ linear (fewer than three layers) have zero Hessian rows and no correction.
 import numpy as np
 from numba import njit, prange
 
-from .neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
-from .tensors import XX, XY, XZ, YY, YZ, ZZ
+from ..numerics.neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
+from ..numerics.tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
 _CHUNKS = 64
@@ -50,8 +50,8 @@ def _sym(i, j):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def basis_dot(v, ux, uy, uz):
-    """v . p(u) for the quadratic basis p of solid_mls.py. With v = A_a[i] (gradient_force_rows) and the pair's
-    s_ab = V_b W_ab / h^2, s_ab basis_dot(A_a[i], u_ab) is Phi_ab,i of the module doc; solid_mls.momentum_rate_mls
+    """v . p(u) for the quadratic basis p of solid/fitted_gradient.py. With v = A_a[i] (gradient_force_rows) and the pair's
+    s_ab = V_b W_ab / h^2, s_ab basis_dot(A_a[i], u_ab) is Phi_ab,i of the module doc; fitted_gradient.momentum_rate_mls
     adds the pair's F_ab = Phi_ab - Phi_ba, where u and W_ab are at hand."""
     return ((v[0] * ux + v[1] * uy + v[2] * uz)
             + 0.5 * (v[3] * ux * ux + v[4] * uy * uy + v[5] * uz * uz)
@@ -103,7 +103,7 @@ def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, 
 
     H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab), s_ab = V_b W_ab / h^2: the pairs only sum the 27
     moments (per-chunk `moments`, chunks x N x 27), the rows are applied once per particle. volume: V = m / rho
-    per particle (solid_stepper.particle_volumes). crossing: the rows that may need the minimum image
+    per particle (solid.stepper.particle_volumes). crossing: the rows that may need the minimum image
     (neighbours.NeighbourList.crossing; the others take plain differences, the same bits).
     """
     inv_period = inverse_periods(period)

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from .references import read_reference_csv
-from .validation import CANTILEVER_CASES
+from .cases import CANTILEVER_CASES
 
 
 def _fmt(x, spec=".3g"):

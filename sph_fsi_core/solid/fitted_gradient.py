@@ -28,13 +28,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .kernels import cubic_spline_w, cubic_spline_wf
-from .neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
-from .pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE,
+from ..numerics.kernels import cubic_spline_w, cubic_spline_wf
+from ..numerics.neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
+from ..numerics.pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
-from .solid_gradient_integration import basis_dot, quadratic_monomials
-from .solid_gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
-from .tensors import XX, XY, XZ, YY, YZ, ZZ
+from .gradient_integration import basis_dot, quadratic_monomials
+from .gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
+from ..numerics.tensors import XX, XY, XZ, YY, YZ, ZZ
 
 N_BASIS = 9
 MOMENT_COUNT = N_BASIS * (N_BASIS + 1) // 2   # upper triangle of M, row by row
@@ -114,7 +114,7 @@ def _cholesky_solve_rows(m, rows, nb):
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_buf):
     """R_a (N, R, 9): rows 0..R-1 of the inverse weighted moment matrix M_a (R = 3: the gradient; R = 9: and the
-    Hessian, solid_gradient_integration.py); order[a] = 2 (quadratic) or 1 (linear).
+    Hessian, solid/gradient_integration.py); order[a] = 2 (quadratic) or 1 (linear).
 
     One pass over the half list into per-chunk moment sums `moment_buf` (chunks, N, 45), then one small
     Cholesky solve per particle. Call after every neighbour-list build.
@@ -402,7 +402,7 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
     forces act on no moving particle (with the mirrored clamp they would move the ghosts' images: the ghosts'
     relative motion is not the material's). Forces are summed per pair and divided by the mass once per particle.
     With the strain-gradient nodal integration (`force_rows` (N, 3, 9) from gradient_force_rows; empty when it is
-    off) the pair also carries the stress gradient's force (Phi_ab - Phi_ba of solid_gradient_integration.py),
+    off) the pair also carries the stress gradient's force (Phi_ab - Phi_ba of solid/gradient_integration.py),
     here where u and W_ab are at hand rather than in a pass of its own.
 
     In blocks (pair_blocks.py; `blocks`: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns): what needs only

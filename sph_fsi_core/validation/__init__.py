@@ -1,0 +1,4 @@
+"""Everything that judges the simulator, kept apart from the simulator itself: the reference data and readers
+(references, reference_data/), the 3D finite-element reference (fe_reference), the oscillation analysis
+(oscillation), the validation ladders (cases: what runs; ladder: running them; report: tables and plots) and the
+stiff and extreme cases (stability)."""

@@ -1,0 +1,115 @@
+"""`sph-fsi validate`: error against run time over resolution ladders, for every reference case.
+
+Each case is a list of rungs (a scene plus overrides and an end time). A rung runs headless (run.run_scene)
+into OUT/runs/CASE/RUNG/ and leaves its summary.json there: measured value, reference, error, wall time, steps,
+particle-steps/s, stable. The report (OUT/REPORT.md and PNG plots) is made from those summaries, so it can be
+rebuilt without rerunning (`--report-only`). `--quick` runs only the coarse rungs and asserts each error under
+the bound stated with the rung; it is part of CI.
+"""
+import json
+import multiprocessing
+import os
+import shutil
+import sys
+import time
+from pathlib import Path
+
+from .cases import CASE_GROUPS, all_rungs, cantilever_end_time
+
+
+def rung_dir(out_dir, rung):
+    return Path(out_dir) / "runs" / rung.case / rung.label
+
+
+def run_rung(args):
+    """Run one rung (in a worker process when --workers > 1); returns its summary."""
+    rung, out_dir = args
+    from ..run import run_scene
+    from ..scene import load_scene
+    overrides = dict(rung.overrides)
+    end = rung.end_time or cantilever_end_time(overrides, rung.periods)
+    overrides.update({"scene.end_time": end, "output.snapshot_interval": rung.snapshot_interval})
+    spec = load_scene(rung.scene, list(overrides.items()))
+    t0 = time.perf_counter()
+    summary = run_scene(spec, rung_dir(out_dir, rung), progress=False)
+    print(f"  {rung.key}: error {summary.get('error')}, wall {time.perf_counter() - t0:.1f} s, "
+          f"stable {summary['stable']}", flush=True)
+    return summary
+
+
+def same_run(rung):
+    """Rungs with the same scene, overrides and duration are one run (the sweep's L = 40 mm is the ladder's H/dp = 4)."""
+    from ..scene import load_scene
+    values = load_scene(rung.scene, list(rung.overrides.items())).values   # overrides equal to defaults count alike
+    return rung.scene, repr(sorted(values.items())), rung.periods, rung.end_time
+
+
+def run_rungs(rungs, out_dir, workers=1):
+    first = {}
+    for r in rungs:
+        first.setdefault(same_run(r), r)
+    repeats = [r for r in rungs if first[same_run(r)] is not r]
+    summaries = _run_distinct([r for r in rungs if r not in repeats], out_dir, workers)
+    for r in repeats:
+        source = rung_dir(out_dir, first[same_run(r)])
+        target = rung_dir(out_dir, r)
+        shutil.rmtree(target, ignore_errors=True)
+        shutil.copytree(source, target)
+        print(f"  {r.key}: the same run as {first[same_run(r)].key}", flush=True)
+    return summaries
+
+
+def _run_distinct(rungs, out_dir, workers):
+    jobs = [(r, out_dir) for r in rungs]
+    if workers > 1:
+        # Rungs are independent. Each worker gets cores / workers Numba threads: more threads than cores makes
+        # OpenMP's spinning threads wait on each other and runs several times slower, not a little.
+        threads = max(1, (os.cpu_count() or 1) // workers)
+        saved = os.environ.get("NUMBA_NUM_THREADS")
+        os.environ["NUMBA_NUM_THREADS"] = str(threads)     # spawned workers inherit the environment
+        try:
+            with multiprocessing.get_context("spawn").Pool(workers) as pool:
+                return pool.map(run_rung, jobs, chunksize=1)
+        finally:
+            if saved is None:
+                os.environ.pop("NUMBA_NUM_THREADS", None)
+            else:
+                os.environ["NUMBA_NUM_THREADS"] = saved
+    return [run_rung(j) for j in jobs]
+
+
+def load_summaries(out_dir, rungs):
+    found = {}
+    for r in rungs:
+        p = rung_dir(out_dir, r) / "summary.json"
+        if p.is_file():
+            found[r.key] = json.loads(p.read_text())
+    return found
+
+
+def main(cases=(), quick=False, workers=1, out_dir="docs/validation", report_only=False):
+    cases = tuple(c for name in cases for c in CASE_GROUPS.get(name, (name,)))
+    rungs = [r for r in all_rungs() if (not cases or r.case in cases) and (r.quick or not quick)]
+    if not rungs:
+        known = sorted({r.case for r in all_rungs()})
+        print(f"sph-fsi validate: no such case {list(cases)}; allowed: {', '.join(known)}", file=sys.stderr)
+        return 2
+    if not report_only:
+        print(f"sph-fsi validate: {len(rungs)} run(s) into {out_dir}/runs/", flush=True)
+        run_rungs(rungs, out_dir, workers)
+    from .report import write_report
+    # The report covers the cases asked for (all of them by default), so a fluid-only report does not list the
+    # cantilever's rungs as "not run".
+    reported = [r for r in all_rungs() if not cases or r.case in cases]
+    summaries = load_summaries(out_dir, reported)
+    write_report(out_dir, reported, summaries)
+    failed = []
+    for r in rungs:
+        s = summaries.get(r.key)
+        if s is None or not s["stable"]:
+            failed.append(f"{r.key}: did not finish stably")
+        elif r.bound is not None and quick and (s.get("error") is None or s["error"] > r.bound):
+            failed.append(f"{r.key}: error {s.get('error')} above the bound {r.bound}")
+    for line in failed:
+        print(f"sph-fsi validate: FAILED {line}", file=sys.stderr)
+    return 1 if failed else 0
