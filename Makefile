@@ -4,6 +4,8 @@
 #                  time series into runs/elastic_gate/, exit at the end
 #   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT
 #   make test      same install, then the test suite
+#   make test-fast same install, then the suite without the tests marked slow (`-m "not slow"`: no validation
+#                  runs, long physics runs or long node runs; ~40 s on 2 cores with a warm Numba cache)
 # Variables: VENV; for run: NODE_SCENE, NODE_PARAMS (extra `-p key:=value`); for headless: SCENE (scene name or
 # YAML file; empty = default scene), OUT, ARGS (extra CLI arguments).
 
@@ -27,7 +29,7 @@ STAMP = $(VENV)/.installed
 # The editable install maps the packages that exist when it runs: reinstall when a package appears.
 PKG_INITS = $(wildcard sph_fsi/__init__.py sph_fsi_core/__init__.py sph_fsi_core/*/__init__.py)
 
-.PHONY: all install run headless test validate stability bench clean distclean
+.PHONY: all install run headless test test-fast validate stability bench clean distclean
 
 all: install
 
@@ -56,13 +58,18 @@ headless: install
 	@echo "Outputs in $(OUT)/ (timeseries.csv, summary.json, snapshots)"
 
 # Tests get their own ROS domains (a random base 1..100; the node test files take fixed offsets from it) and stay
-# on this host.
-test: install
-	export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST; \
+# on this host. test-fast: the same, without the tests marked `slow` (test/conftest.py registers the marker).
+TEST_ENV = export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST; \
 	export ROS_DOMAIN_ID=$$(( RANDOM % 100 + 1 )); \
 	export NUMBA_NUM_THREADS=$(TEST_THREADS); \
-	echo "ROS_DOMAIN_ID=$$ROS_DOMAIN_ID, $(TEST_WORKERS) pytest workers x $(TEST_THREADS) Numba thread(s)"; \
-	$(PY) -m pytest -q -p no:cacheprovider -n $(TEST_WORKERS) --dist loadfile $(PYTEST_ARGS) test
+	echo "ROS_DOMAIN_ID=$$ROS_DOMAIN_ID, $(TEST_WORKERS) pytest workers x $(TEST_THREADS) Numba thread(s)"
+PYTEST = $(PY) -m pytest -q -p no:cacheprovider -n $(TEST_WORKERS) --dist loadfile
+
+test: install
+	$(TEST_ENV); $(PYTEST) $(PYTEST_ARGS) test
+
+test-fast: install
+	$(TEST_ENV); $(PYTEST) -m "not slow" $(PYTEST_ARGS) test
 
 validate: install
 	$(PY) -m sph_fsi.cli validate $(ARGS)

@@ -1,5 +1,5 @@
 """`make bench`: every benchmark, one after the other (never two at once on a 2-core machine), results written to
-docs/performance/BENCH.md with the machine and commit they ran on."""
+runs/bench/BENCH.md (`--out docs/performance/BENCH.md` publishes them) with the machine and commit they ran on."""
 import argparse
 import datetime
 from pathlib import Path
@@ -11,23 +11,24 @@ from . import fluid_throughput, publishing_cost, recording_cost, solid_throughpu
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--out", default="docs/performance/BENCH.md")
+    parser.add_argument("--out", default="runs/bench/BENCH.md",
+                        help="where BENCH.md goes (--out docs/performance/BENCH.md publishes the project's)")
     parser.add_argument("--seconds", type=float, default=10.0, help="minimum measuring time per size")
     args = parser.parse_args(argv)
     solid = solid_throughput.main(["--seconds", str(args.seconds)])
     fluid = fluid_throughput.main(["--seconds", str(args.seconds)])
     m = machine_info()
     lines = ["# Benchmarks", "",
-             "Made by `make bench` (`python -m bench.run_all`).", "",
+             "Made by `make bench ARGS=\"--out docs/performance/BENCH.md\"` (`python -m bench.run_all`).", "",
              f"Machine: {m['cpus']} CPUs, {m['numba_threads']} Numba threads, {m['platform']}, Python {m['python']}, "
              f"Numba {m['numba']}, NumPy {m['numpy']}; commit {m['commit']}; {datetime.date.today().isoformat()}.", "",
              "## Elastic solid (Gray 2001), particle-steps per second", "",
              "A cantilever scaled up at 1 mm spacing, swinging in its first mode; every solid step's passes, "
              "neighbour rebuilds and the watchdog included. Pairs: the half list (each pair once) within 2h + skin.", "",
-             "Solid: the quadratic-fit gradient with nodal integration 'plain' (three pair passes per step, the "
-             "schema's default) or 'gradient' (the strain-gradient terms, the cantilever scene's default: a fourth "
-             "pair pass, a heavier momentum pass and the fit refreshed as the beam turns), or 'sph', the paper's "
-             "scheme (Gray's SPH gradient and artificial stress, epsilon 0.15, as in the elastic_gate scene).", "",
+             "Solid: the named schemes (`solid.scheme`; docs/method.md, \"Solid schemes\"): 'quadratic_plain' "
+             "(three pair passes per step), 'quadratic_gradient' (the default: a fourth pair pass, a heavier momentum "
+             "pass and the fit refreshed as the beam turns) and 'gray2001' (the paper's: Gray's SPH gradient and "
+             "artificial stress, epsilon 0.15, solid.cfl 0.5).", "",
              "| particles | solid | pairs per particle | steps | seconds | M particle-steps/s |",
              "|---|---|---|---|---|---|"]
     for r in solid:

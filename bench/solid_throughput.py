@@ -1,12 +1,11 @@
-"""Solid particle-steps per second of the Gray 2001 solid at about 10^3, 10^4 and 10^5 particles.
+"""Solid particle-steps per second of the elastic solid at about 10^3, 10^4 and 10^5 particles, per solid scheme.
 
 The cantilever builder scaled up (a thicker, wider, longer beam at 1 mm spacing, swinging in its first mode),
-so the numbers are those of real stepping: every pass, the neighbour rebuilds, the watchdog. Three solids: the
-quadratic-fit gradient with both nodal integrations, 'plain' (three pair passes per step, the schema's default)
-and 'gradient' (the cantilever scene's default, with the strain-gradient terms and the fit's refreshes;
-docs/method.md), and 'sph': the paper's scheme, Gray's SPH gradient with his artificial stress (epsilon 0.15, as
-in the elastic_gate scene), the scheme the issue's 1 M target was set against. Run with
-`python -m bench.solid_throughput` (or `make bench`); do not run two benchmarks at once on a 2-core machine.
+so the numbers are those of real stepping: every pass, the neighbour rebuilds, the watchdog. The solids are the
+named schemes (sph_fsi_core/solid/schemes.py; docs/method.md, "Solid schemes"): 'quadratic_plain' (three pair
+passes per step), 'quadratic_gradient' (the default, with the strain-gradient terms and the fit's refreshes) and
+'gray2001' (the paper's: Gray's SPH gradient with his artificial stress, the scheme the 1 M target was set against).
+Run with `python -m bench.solid_throughput` (or `make bench`); do not run two benchmarks at once on a 2-core machine.
 """
 import argparse
 import json
@@ -21,18 +20,15 @@ from sph_fsi_core.simulation import Simulation
 SIZES = {"1e3": (0.020, 0.006, 0.008), "1e4": (0.040, 0.016, 0.016), "1e5": (0.100, 0.032, 0.032)}
 
 
-# the solids measured: scheme -> scene overrides
-SCHEMES = {"plain": ["solid.nodal_integration=plain"],
-           "gradient": ["solid.nodal_integration=gradient"],
-           "sph": ["solid.nodal_integration=plain", "solid.velocity_gradient=sph",
-                   "solid.artificial_stress_epsilon=0.15"]}
+# the solids measured: the named schemes
+SCHEMES = ("quadratic_plain", "quadratic_gradient", "gray2001")
 
 
-def measure(label, scheme="plain", steps_target=2.0e7, min_seconds=5.0):
+def measure(label, scheme="quadratic_plain", steps_target=2.0e7, min_seconds=5.0):
     length, width, thickness = SIZES[label]
     spec = load_scene("cantilever", [f"geometry.length={length}", f"geometry.width={width}",
                                      f"geometry.thickness={thickness}", "geometry.clamp_margin=1",
-                                     "output.snapshot_interval=0"] + SCHEMES[scheme])
+                                     "output.snapshot_interval=0", f"solid.scheme={scheme}"])
     sim = Simulation(spec)
     sim.step()  # compile and warm up
     n = sim.particle_count
@@ -55,8 +51,7 @@ def main(argv=None):
     parser.add_argument("--sizes", nargs="*", default=list(SIZES))
     parser.add_argument("--seconds", type=float, default=5.0)
     parser.add_argument("--schemes", nargs="*", default=list(SCHEMES), choices=list(SCHEMES),
-                        help="solids to measure: the quadratic fit with 'plain' or 'gradient' nodal integration, or "
-                             "'sph', the paper's Gray scheme")
+                        help="solid schemes to measure (solid.scheme)")
     args = parser.parse_args(argv)
     results = []
     for label in args.sizes:
@@ -64,7 +59,7 @@ def main(argv=None):
             r = measure(label, scheme, min_seconds=args.seconds)
             results.append(r)
             print(f"solid {r['particles']:>7d} particles ({r['pairs_per_particle']:.0f} pairs each), "
-                  f"{scheme:>8s}: "
+                  f"{scheme:>18s}: "
                   f"{r['particle_steps_per_second'] / 1e6:6.3f} M particle-steps/s over {r['steps']} steps, "
                   f"{r['threads']} threads", flush=True)
     return results

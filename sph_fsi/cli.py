@@ -57,10 +57,6 @@ def _check_out_dir(path):
         raise ValueError(f"--out {str(path)!r}: not writable ({exc.strerror}); allowed: a writable directory")
 
 
-class _Stop(Exception):
-    """Raised at an outer-step boundary after SIGINT/SIGTERM."""
-
-
 class _Signals:
     """SIGINT/SIGTERM -> a flag checked between outer steps; the run then ends cleanly (exit status 130).
 
@@ -97,7 +93,8 @@ class _Signals:
 
     def check(self):
         if self.signum is not None and not self.closing:
-            raise _Stop()
+            from sph_fsi_core.run import Interrupted
+            raise Interrupted()
 
 
 def _check_writable_file(option, path):
@@ -114,7 +111,7 @@ def _check_writable_file(option, path):
 
 
 def _cmd_run(args):
-    from sph_fsi_core.run import run_scene
+    from sph_fsi_core.run import Interrupted, run_scene
     from sph_fsi_core.scene import load_scene
     spec = load_scene(args.scene, args.set or [])
     if args.end_time is not None:
@@ -127,34 +124,44 @@ def _cmd_run(args):
     recording = bool(mcap or rrd or args.rerun_connect)
     print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) to t = {spec['scene.end_time']:g} s "
           f"into {out}/", file=sys.stderr)
-    state = {"rec": None, "sim": None}
+    state = {"rec": None, "sim": None, "stats": None}
     with _Signals() as signals:
         def on_sample(sim, row):
             state["sim"] = sim
             signals.check()
-            if recording:
-                if state["rec"] is None:
-                    from sph_fsi.recording import DEFAULT_INTERVAL, Recorder
-                    interval = DEFAULT_INTERVAL if args.record_interval is None else args.record_interval
-                    state["rec"] = Recorder(sim, mcap_path=mcap, mcap_compression=args.mcap_compression,
-                                            rrd_path=rrd, rerun_connect=args.rerun_connect, interval=interval)
-                state["rec"].maybe_record(sim, row)
+
+        class ClosingRecorder:
+            """The run's recorder; a second signal while it closes is ignored (see _Signals)."""
+
+            def __init__(self, sim):
+                from sph_fsi.recording import DEFAULT_INTERVAL, Recorder
+                interval = DEFAULT_INTERVAL if args.record_interval is None else args.record_interval
+                self.rec = Recorder(sim, mcap_path=mcap, mcap_compression=args.mcap_compression, rrd_path=rrd,
+                                    rerun_connect=args.rerun_connect, interval=interval)
+                state["rec"] = self.rec
+
+            def maybe_record(self, sim, row=None):
+                return self.rec.maybe_record(sim, row)
+
+            def close(self, sim=None, **kwargs):
+                signals.closing = True
+                state["stats"] = self.rec.close(sim, **kwargs)
+                return state["stats"]
 
         status, detail, summary = "failed", None, None
         try:
-            summary = run_scene(spec, out, on_sample=on_sample)
+            summary = run_scene(spec, out, on_sample=on_sample, recorder=ClosingRecorder if recording else None)
             if summary["stable"]:
                 status = "finished"
             else:
                 d = summary["diverged"]
                 status, detail = "diverged", f"{d['check']} at t = {d['time']:.6g} s: {d['detail']}"
-        except (_Stop, KeyboardInterrupt):
+        except (Interrupted, KeyboardInterrupt):
             status = "interrupted"
         finally:
             signals.closing = True
-            rec = state["rec"]
-            if rec is not None:
-                stats = rec.close(state["sim"], status=status, detail=detail)
+            rec, stats = state["rec"], state["stats"]
+            if rec is not None and stats is not None:
                 written = [str(p) for p in (mcap, rrd) if p]
                 print(f"sph-fsi: recorded {rec.frames} frames ({rec.interval:g} s apart) to "
                       f"{', '.join(written + ([args.rerun_connect] if args.rerun_connect else []))}"
@@ -220,6 +227,7 @@ def _cmd_stability(args):
 
 
 def build_parser():
+    from sph_fsi_core.validation import DEFAULT_OUT_DIR
     parser = argparse.ArgumentParser(prog="sph-fsi", description="3D SPH fluid-structure simulator (Satake et al.)")
     sub = parser.add_subparsers(dest="command", required=True)
     p = sub.add_parser("run", help="run a scene headless and write its outputs")
@@ -254,13 +262,17 @@ def build_parser():
     p.add_argument("cases", nargs="*", help="cases to run (default: all)")
     p.add_argument("--quick", action="store_true", help="coarse rungs only, asserting error bounds (CI)")
     p.add_argument("--workers", type=int, default=1, help="cases run in parallel processes")
-    p.add_argument("--out", default="docs/validation", help="where REPORT.md and plots go")
+    p.add_argument("--out", default=DEFAULT_OUT_DIR,
+                   help=f"where REPORT.md, plots and runs go (default {DEFAULT_OUT_DIR}; --out docs/validation "
+                        f"publishes into the project's committed report)")
     p.add_argument("--report-only", action="store_true", help="rebuild REPORT.md and plots from earlier runs")
     p.set_defaults(func=_cmd_validate)
     p = sub.add_parser("stability", help="stiff and extreme cases: the outcome of each (stable, refused, diverged)")
     p.add_argument("names", nargs="*", help="run only cases whose name contains one of these")
     p.add_argument("--ci", action="store_true", help="the CI subset only")
-    p.add_argument("--out", default="docs/validation", help="where STABILITY.md goes")
+    p.add_argument("--out", default=DEFAULT_OUT_DIR,
+                   help=f"where STABILITY.md and runs go (default {DEFAULT_OUT_DIR}; --out docs/validation "
+                        f"publishes into the project's committed report)")
     p.set_defaults(func=_cmd_stability)
     return parser
 

@@ -1,6 +1,6 @@
 """What a simulation shows, as NumPy: the moving particles of each phase, the fixed ones, and their point layouts.
 
-ROS-free (no rclpy, no message packages): shared by the node (sph_fsi.node), the message builders
+ROS-free (no rclpy, no message packages): shared by the node (sph_fsi.publishing, sph_fsi.runner), the message builders
 (sph_fsi.messages) and the recorders (sph_fsi.recording), which also run from the command line without ROS.
 
 `~/particles` points: float32 x y z [m], vx vy vz [m/s], pressure [Pa], von_mises [Pa], uint8 phase

@@ -49,8 +49,8 @@ def replay(path, rate=1.0, wait_for_subscribers=0, wait_timeout=30.0, node_name=
         stop.set()
 
     old = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-    from .node import _ensure_ament_prefix
-    _ensure_ament_prefix()
+    from .ament import ensure_ament_prefix
+    ensure_ament_prefix()
     import rclpy
     from rclpy.signals import SignalHandlerOptions
     ctx = rclpy.Context()

@@ -22,7 +22,8 @@ Per fluid step dt (simulation.py drives it):
          alpha_a = gamma sum_b (m_b / rho_b) (adot_b . n_a) W_ab (-n_a),         (11)
      gamma = coupling.gamma (the paper: 10). Interior solid particles get nothing. It is not momentum-conserving
      (gamma is a tuning factor); and adot is the water particle's NET correction acceleration, which at rest only
-     balances gravity: a column at rest presses on a vertical gate with little more than its noise (FINDINGS.md).
+     balances gravity: a column at rest presses on a vertical gate with little more than its noise
+     (docs/method.md, coupling).
    - 'pressure': the fluid pressure P (the step's summed correction pressure, okaji.correction_pressure, the
      pressure that held the fluid incompressible over the step, about rho g depth at rest) acts on every solid
      particle s through the same pair term the fluid feels from it in eq. (2):

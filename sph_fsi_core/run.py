@@ -187,11 +187,124 @@ def headline(summary):
     return "; ".join(parts)
 
 
-def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
+END_TOLERANCE = 1e-12   # s: a run has reached its end time once sim.time >= end - END_TOLERANCE
+
+
+class Interrupted(Exception):
+    """Raised by a sample hook to stop a run cleanly at an outer-step boundary (the CLI's SIGINT/SIGTERM)."""
+
+
+class Run:
+    """One run of a scene, the loop every driver shares: `run_scene` (the CLI, validation, stability) and the
+    node's runner (sph_fsi.runner), so the end-time rule, the time series, the summary and the recorder calls
+    live here once.
+
+        run = Run(spec)                   # builds the Simulation (timed as setup)
+        run.add_recorder(rec)             # optional: offered every sample, closed by run.close()
+        while not run.at_end and run.advance():
+            ...
+        summary = run.finish("finished")  # or "diverged" (run.diverged), "interrupted", "reset"
+        run.close("finished")
+
+    `end_time` None follows the scene's `scene.end_time`, read live (the node can change it); a number fixes it.
+    Stepping time (RunLog.add_stepping) is the time spent in `advance()`: the snapshot due before the step, the
+    outer step, its sample and the sample hooks (recorders' capture, progress, the CLI's signal check).
+    """
+
+    def __init__(self, spec, end_time=None, out_dir=None, snapshots_dir=None):
+        t0 = time.perf_counter()
+        self.sim = Simulation(spec)
+        self.log = RunLog(self.sim, time.perf_counter() - t0)
+        self.end_time = end_time
+        self.out_dir = Path(out_dir) if out_dir else None
+        self.diverged = None                    # the Diverged exception, once the watchdog tripped
+        self.hooks = []                         # hook(sim, row) after every sample
+        self.recorders = []                     # closed by close()
+        self.snapshots_dir = Path(snapshots_dir) if snapshots_dir else None
+        self.snapshots = 0
+        self._snapshot_dt = spec["output.snapshot_interval"] if snapshots_dir else 0.0
+        self._next_snapshot = 0.0
+
+    @property
+    def end(self):
+        return self.end_time if self.end_time is not None else self.sim.spec["scene.end_time"]
+
+    @property
+    def at_end(self):
+        """The simulated time has reached the end time (the one end-time rule of every driver)."""
+        return self.sim.time >= self.end - END_TOLERANCE
+
+    def add_hook(self, hook, now=True):
+        """Call hook(sim, row) after every outer step's sample, and at once with the latest row if `now`."""
+        if now:
+            hook(self.sim, self.log.rows[-1])
+        self.hooks.append(hook)
+
+    def add_recorder(self, recorder):
+        """A recorder (sph_fsi.recording.Recorder or alike: maybe_record(sim, row), close(sim, status=, detail=)):
+        offered the current state now and every sample from now on; closed by close()."""
+        self.add_hook(recorder.maybe_record)
+        self.recorders.append(recorder)
+
+    def advance(self):
+        """One outer step, sampled into the time series and handed to the hooks. False if the run diverged
+        (`self.diverged`: the state is left as the watchdog found it, unsampled). An exception from a hook ends
+        the step (its stepping time still counted) and goes on to the caller."""
+        t0 = time.perf_counter()
+        try:
+            sim = self.sim
+            if self._snapshot_dt > 0 and sim.time >= self._next_snapshot - 1e-12:
+                self._write_snapshot()
+                self._next_snapshot += self._snapshot_dt
+            try:
+                sim.step()
+            except Diverged as exc:
+                self.diverged = exc
+                return False
+            row = self.log.add_sample()
+            for hook in self.hooks:
+                hook(sim, row)
+            return True
+        finally:
+            self.log.add_stepping(time.perf_counter() - t0)
+
+    def _write_snapshot(self):
+        write_snapshot(self.sim, self.snapshots_dir / f"snapshot_{self.snapshots:05d}.npz", self.snapshots)
+        self.snapshots += 1
+
+    def finish(self, status):
+        """The summary of the run as it stands (RunLog.summary), written to out_dir if given (OSError goes on to
+        the caller). A finished run with snapshots gets its last snapshot first."""
+        if status == "finished" and self._snapshot_dt > 0:
+            self._write_snapshot()
+        summary = self.log.summary(self.end, status, self.diverged, self.snapshots)
+        if self.out_dir:
+            self.log.write(self.out_dir, summary)
+        return summary
+
+    @property
+    def detail(self):
+        """How a diverged run tripped, one line; None otherwise."""
+        d = self.diverged
+        return f"{d.check} at t = {d.time:.6g} s: {d.detail}" if d is not None else None
+
+    def close(self, status):
+        """Close the recorders (the final state unless diverged, a last /diagnostics saying `status`); returns
+        [(recorder, its writer's stats)]. Idempotent."""
+        closed = []
+        recorders, self.recorders = self.recorders, []
+        for rec in recorders:
+            closed.append((rec, rec.close(self.sim, status=status, detail=self.detail)))
+        return closed
+
+
+def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, recorder=None):
     """Run `spec` to its end time; returns the summary dict (also written to out_dir/summary.json if given).
 
-    An exception from `on_sample` (the CLI's Ctrl-C) ends the run: what was computed is still written, with
-    status 'interrupted', before the exception goes on."""
+    on_sample(sim, row) is called with the first row and after every outer step. recorder(sim), if given, makes
+    a recorder (see Run.add_recorder) once the scene is built; it is closed at the end with how the run ended
+    ('failed' for an unexpected exception). An exception from `on_sample` (the CLI's Ctrl-C: Interrupted) ends
+    the run: what was computed is still written, with status 'interrupted', before the exception goes on."""
     end = end_time if end_time is not None else spec["scene.end_time"]
     progress = _Progress(end, sys.stderr.isatty() if progress is None else progress)
     out = Path(out_dir) if out_dir else None
@@ -200,40 +313,31 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None):
         (out / "snapshots").mkdir(exist_ok=True)
         for stale in ("summary.json", "timeseries.csv"):   # an earlier run's, never mistaken for this one's
             (out / stale).unlink(missing_ok=True)
-    t0 = time.perf_counter()
-    sim = Simulation(spec)
-    log = RunLog(sim, time.perf_counter() - t0)
+    run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None)
+    sim = run.sim
     if on_sample:
-        on_sample(sim, log.rows[-1])
-    snap_dt = spec["output.snapshot_interval"]
-    next_snap, snap_count = 0.0, 0
-    diverged = None
-    status = "interrupted"
-    t1 = time.perf_counter()
+        run.add_hook(on_sample)
+    if recorder:
+        run.add_recorder(recorder(sim))
+    run.add_hook(lambda s, _row: progress.update(s), now=False)
+    status = recorder_status = "interrupted"
     try:
-        while sim.time < end - 1e-12:
-            if out and snap_dt > 0 and sim.time >= next_snap - 1e-12:
-                write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
-                snap_count += 1
-                next_snap += snap_dt
-            sim.step()
-            row = log.add_sample()
-            if on_sample:
-                on_sample(sim, row)
-            progress.update(sim)
-        status = "finished"
-    except Diverged as exc:
-        diverged, status = exc, "diverged"
+        try:
+            while not run.at_end:
+                if not run.advance():
+                    break
+            status = recorder_status = "diverged" if run.diverged is not None else "finished"
+        except (Interrupted, KeyboardInterrupt):
+            raise
+        except BaseException:
+            recorder_status = "failed"
+            raise
+        finally:
+            progress.update(sim, force=True)
+            progress.close()
+            summary = run.finish(status)
     finally:
-        log.add_stepping(time.perf_counter() - t1)
-        progress.update(sim, force=True)
-        progress.close()
-        if out and snap_dt > 0 and status == "finished":
-            write_snapshot(sim, out / "snapshots" / f"snapshot_{snap_count:05d}.npz", snap_count)
-            snap_count += 1
-        summary = log.summary(end, status, diverged, snap_count)
-        if out:
-            log.write(out, summary)
+        run.close(recorder_status)
     return summary
 
 

@@ -1,8 +1,10 @@
 """Scenes: strict YAML loading, `--set` overrides, and the resolved settings a builder turns into particles.
 
 A scene file is nested YAML (`section: {key: value}`) in SI units, z up. Resolution order: schema defaults,
-then the builder's defaults, then the file, then overrides. Unknown keys, wrong types, out-of-range values
-and duplicate keys are SceneErrors naming the key.
+then the builder's defaults, then the solid's scheme (`solid.scheme` fills in the detailed keys of
+solid/schemes.py), then the file, then overrides; so a detailed key set in the file or by an override beats the
+scheme, and a new scheme given later (`SceneSpec.with_overrides`) is expanded again under the keys set explicitly.
+Unknown keys, wrong types, out-of-range values and duplicate keys are SceneErrors naming the key.
 """
 import os
 import re
@@ -14,6 +16,7 @@ import yaml
 
 from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError
 from .scenes import BUILDERS, DEFAULT_SCENE
+from .solid.schemes import scheme_values
 
 __all__ = ["SceneError", "SceneSpec", "load_scene", "builtin_scene_path", "builtin_scenes", "parse_override"]
 
@@ -135,7 +138,8 @@ class SceneSpec:
         return BUILDERS[self.builder].PHASES
 
     def with_overrides(self, overrides):
-        """A new spec with `overrides` ({key: value}) applied and validated."""
+        """A new spec with `overrides` ({key: value}) applied and validated. The keys set so far (file, earlier
+        overrides) stay set; a new `solid.scheme` fills in every detailed key that none of them sets."""
         return _resolve(self.builder, {**self._explicit, **overrides}, self.source)
 
     _explicit: dict = None
@@ -151,9 +155,13 @@ def _resolve(builder_name, flat, origin):
                     | set(PHASE_NAMES))
     values = {k: p.default for k, p in schema.params.items()}
     values.update(getattr(builder, "DEFAULTS", {}))
+    explicit = {}
     for key, value in flat.items():
         param = schema.check_key(key, all_sections)
-        values[key] = param.coerce(value)
+        explicit[key] = param.coerce(value)
+    if "solid.scheme" in values:
+        values.update(scheme_values(explicit.get("solid.scheme", values["solid.scheme"])))
+    values.update(explicit)
     values["scene.builder"] = builder_name
     if not values["scene.name"]:
         values["scene.name"] = builder_name

@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from .solid.schemes import DEFAULT_SCHEME, SCHEMES, expansion_text
+
 MAX_ART_EXPONENT = 12   # solid.artificial_stress_exponent's upper bound (gray2001.integer_power takes n < 16)
 
 
@@ -100,6 +102,14 @@ def _p(*args, **kwargs):
     return Param(*args, **kwargs)
 
 
+def _by_scheme(key):
+    """A detailed key's default: the default scheme's value (solid/schemes.py), so the two cannot disagree."""
+    return SCHEMES[DEFAULT_SCHEME].values[key]
+
+
+_SET_BY_SCHEME = "; set by solid.scheme unless given explicitly (an explicit value overrides the scheme's)"
+
+
 # Sections every scene has.
 COMMON = [
     _p("scene.name", "", "", "Scene name, shown in outputs", kind="str", rebuild=False),
@@ -131,26 +141,34 @@ SOLID = [
        rebuild=False),
     _p("solid.poisson_ratio", 0.49, "1", "Poisson's ratio nu (0.5 is incompressible and not allowed)", low=0.0,
        high=0.5, high_inclusive=False, rebuild=False),
-    _p("solid.cfl", 0.25, "1", "Solid time step dt = cfl * h / (c0 + |v|max)", low=0.0, low_inclusive=False,
-       high=1.0, rebuild=False),
+    _p("solid.scheme", DEFAULT_SCHEME, "",
+       "The solid's named scheme: one word for a validated combination of solid.velocity_gradient, "
+       "solid.nodal_integration, solid.artificial_stress_epsilon and solid.cfl; each of those set explicitly "
+       "overrides its scheme's value. "
+       + "; ".join(f"'{s.name}' ({expansion_text(s.name)}): {s.summary}" for s in SCHEMES.values())
+       + ". Which cases validated each, with which error: docs/method.md, 'Solid schemes'",
+       kind="str", choices=tuple(SCHEMES)),
+    _p("solid.cfl", _by_scheme("solid.cfl"), "1", "Solid time step dt = cfl * h / (c0 + |v|max)" + _SET_BY_SCHEME,
+       low=0.0, low_inclusive=False, high=1.0, rebuild=False),
     _p("solid.time_step", 0.0, "s", "Forced solid time step (0: automatic); above the stable limit it is refused",
        low=0.0, high=1.0, rebuild=False),
     _p("solid.xsph_epsilon", 0.5, "1", "XSPH averaging eps of eq. (4)", low=0.0, high=1.0, rebuild=False),
-    _p("solid.velocity_gradient", "quadratic", "",
+    _p("solid.velocity_gradient", _by_scheme("solid.velocity_gradient"), "",
        "Velocity gradient behind Hooke's law and the pressure: 'sph' Gray 2001's sum (the paper), 'linear' the "
        "kernel-corrected L K^-1, 'quadratic' a quadratic least-squares fit (exact for bending at free surfaces; "
-       "see docs/method.md)", kind="str", choices=("sph", "linear", "quadratic")),
-    _p("solid.nodal_integration", "plain", "",
+       "see docs/method.md)" + _SET_BY_SCHEME, kind="str", choices=("sph", "linear", "quadratic")),
+    _p("solid.nodal_integration", _by_scheme("solid.nodal_integration"), "",
        "How the strain energy is summed over the particles: 'plain' with each particle's strain at its centre "
        "(SPH's nodal integration; a bent 4-layer beam is 6 % short in EI), 'gradient' plus the deviatoric strain's "
-       "gradient across each particle's cell (exact for strain linear across a cell; the cantilever scene's "
-       "default; needs solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)", kind="str",
+       "gradient across each particle's cell (exact for strain linear across a cell; needs "
+       "solid.velocity_gradient = quadratic; costs about 2x per step; docs/method.md)" + _SET_BY_SCHEME, kind="str",
        choices=("plain", "gradient")),
     _p("solid.fit_refresh_turn", 0.0, "1",
        "Quadratic fit: remake its moment rows once a particle's neighbourhood has turned or strained by this much "
        "(the integral of |L| dt) since they were made, besides at every neighbour-list build (0: only there, or "
        "1e-4 with solid.nodal_integration = gradient); a stale fit leaks rotation into the fitted curvature and "
-       "locks energy in self-balanced stress (docs/validation/FINDINGS.md)", low=0.0, high=1.0, rebuild=False),
+       "locks energy in self-balanced stress (docs/method.md, 'Strain-gradient nodal integration')", low=0.0,
+       high=1.0, rebuild=False),
     _p("solid.clamp", "fixed", "",
        "How the clamp holds the body: 'fixed' clamp particles at rest carrying stress (the paper's; the body bends "
        "as if up to half a spacing longer), 'mirrored' clamp particles moving as the odd mirror image of the body "
@@ -161,10 +179,10 @@ SOLID = [
        high=10.0, rebuild=False),
     _p("solid.artificial_viscosity_beta", 0.0, "1", "Monaghan artificial viscosity beta (quadratic term)",
        low=0.0, high=10.0, rebuild=False),
-    _p("solid.artificial_stress_epsilon", 0.0, "1",
+    _p("solid.artificial_stress_epsilon", _by_scheme("solid.artificial_stress_epsilon"), "1",
        "Gray's artificial stress epsilon (0: off). The paper's 'sph' gradient needs it against the tensile "
        "instability (0.15; Gray: 0.3); the quadratic fit needs none, and with it a nearly incompressible body grows "
-       "a spurious mode (docs/method.md)", low=0.0, high=1.0, rebuild=False),
+       "a spurious mode (docs/method.md)" + _SET_BY_SCHEME, low=0.0, high=1.0, rebuild=False),
     _p("solid.artificial_stress_exponent", 4, "1", "Gray's artificial stress exponent n in f_ab^n", kind="int",
        low=1, high=MAX_ART_EXPONENT, rebuild=False),
 ]

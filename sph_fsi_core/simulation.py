@@ -21,7 +21,8 @@ from .scenes import BUILDERS
 from .solid.gray2001 import material_constants, strain_energy
 from .solid.gradient_integration import gradient_strain_energy
 from .solid.fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
-from .solid.stepper import SolidWork, make_params, mirror_clamp_velocities, solid_acceleration, solid_leapfrog
+from .solid.stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params, mirror_clamp_velocities,
+                            solid_acceleration, solid_leapfrog)
 from .numerics.kernels import SUPPORT_RADIUS_IN_H
 from .scenes.built import check_layout
 from .scenes.tank import lattice_density_scale
@@ -219,26 +220,30 @@ class Simulation:
         Re-evaluated when the settings change live (the epsilon is a live key): the previous such warning goes.
         """
         v = self.spec.values
-        eps, scheme = v["solid.artificial_stress_epsilon"], v["solid.velocity_gradient"]
+        eps, gradient = v["solid.artificial_stress_epsilon"], v["solid.velocity_gradient"]
         warning = None
-        if scheme == "sph" and eps == 0.0:
+        if gradient == "sph" and eps == 0.0:
             warning = ("solid.velocity_gradient = sph without artificial stress (solid.artificial_stress_epsilon = "
-                       "0): particles under tension may pair up (the tensile instability); 0.15 is the tested value")
-        elif scheme == "quadratic" and eps > 0.0 and v["solid.poisson_ratio"] >= 0.45:
+                       "0): particles under tension may pair up (the tensile instability); 0.15 is the tested value "
+                       "(solid.scheme = gray2001 sets it)")
+        elif gradient == "quadratic" and eps > 0.0 and v["solid.poisson_ratio"] >= 0.45:
             warning = (f"solid.artificial_stress_epsilon = {eps:g} with the quadratic fit and solid.poisson_ratio = "
                        f"{v['solid.poisson_ratio']:g}: the artificial stress is not paired with the strain rate, and "
                        f"in a nearly incompressible body it feeds a spurious mode that grows at fine spacings (the "
-                       f"paper's beam diverged at H/dp = 8); the quadratic fit needs none: set it to 0")
+                       f"paper's beam diverged at H/dp = 8); the quadratic fit needs none: set it to 0 (as "
+                       f"solid.scheme = quadratic_gradient and quadratic_plain do)")
         self._artificial_stress_warning = self._replace_live_warning(self._artificial_stress_warning, warning)
 
     def _warn_about_solid_cfl(self):
-        """The quadratic fit's stable solid.cfl is lower than Gray's gradient's (docs/validation/FINDINGS.md)."""
+        """The quadratic fit's stable solid.cfl is lower than Gray's gradient's (docs/method.md, the solid's step
+        factor)."""
         v = self.spec.values
         warning = None
         if v["solid.velocity_gradient"] == "quadratic" and v["solid.cfl"] > QUADRATIC_FIT_TESTED_CFL:
             warning = (f"solid.cfl = {v['solid.cfl']:g} with the quadratic fit: its stable limit lay between 0.35 and "
-                       f"0.4 on the paper's beam (Gray's gradient ran stably to 1.0 in the paper's gate); "
-                       f"{QUADRATIC_FIT_TESTED_CFL:g} or less is tested")
+                       f"0.4 on the paper's beam (Gray's gradient ran stably to 1.0 in the paper's gate, hence "
+                       f"gray2001's 0.5); {QUADRATIC_FIT_TESTED_CFL:g} or less is tested (a quadratic solid.scheme "
+                       f"sets 0.25)")
         self._cfl_warning = self._replace_live_warning(self._cfl_warning, warning)
 
     def _replace_live_warning(self, previous, warning):
@@ -250,11 +255,8 @@ class Simulation:
         return warning
 
     def _solid_acceleration(self):
-        s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
-        solid_acceleration(s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure, s.acc, _NO_EXTERNAL,
-                           nb.start, nb.index, self.period, nb.crossing, self.solid_params, wk.sigma_over_rho2,
-                           wk.art_stress, wk.eig_work, wk.w, wk.f, wk.vector_buf, wk.kinv, wk.mls_rows,
-                           wk.mls_weights, self.clamp_mirror, s.stress_gradient, wk.force_rows, wk.blocks)
+        solid_acceleration(SolidArrays.of(self.solid), SolidNeighbours.of(self.solid_neighbours, self.period),
+                           self.solid_params, self.solid_work.buffers(), _NO_EXTERNAL, self.clamp_mirror)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -344,16 +346,12 @@ class Simulation:
         self.watchdog.check()
 
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
-        s, nb, wk, prm = self.solid, self.solid_neighbours, self.solid_work, self.solid_params
+        wk, state = self.solid_work, SolidArrays.of(self.solid)
         done, force = 0, False
         while done < n:
-            k = solid_leapfrog(n - done, force, dt, s.pos, s.vel, s.rho, s.stress, s.mass, s.movable, s.pressure,
-                               s.acc, ext_acc, nb.start, nb.index, self.period, nb.crossing, nb.targets_at_build, prm,
-                               wk.vhat, wk.grad_v, wk.drho, wk.dstress, wk.sigma_over_rho2, wk.art_stress,
-                               wk.eig_work, wk.w, wk.f, wk.buf, wk.kinv, wk.mls_rows, wk.mls_weights,
-                               self.clamp_mirror, s.stress_gradient, wk.hessian, wk.dstress_gradient,
-                               wk.force_rows, wk.hessian_moments, wk.turn, wk.fit_refresh, wk.blocks,
-                               wk.volume, wk.vector_buf, wk.scalar_buf)
+            # the list's arrays and the pair cache are replaced by a rebuild or refit: taken anew each call
+            k = solid_leapfrog(n - done, force, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period),
+                               self.solid_params, wk.buffers(), ext_acc, self.clamp_mirror)
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid()

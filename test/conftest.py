@@ -1,5 +1,7 @@
 """Suite-wide order: the longest files first, so that `make test`'s two pytest-xdist workers (one file each at a
-time, --dist loadfile) end together instead of one waiting on a long file handed out last."""
+time, --dist loadfile) end together instead of one waiting on a long file handed out last. And the `slow` marker:
+tests over ~10 s on one thread (coarse validation runs, long physics runs, node tests that run long simulations),
+which `make test-fast` leaves out (`-m "not slow"`) and `make test` runs."""
 
 # the files that take more than a minute on one thread (pytest --durations), longest first
 LONG_FILES = ("validation/test_cantilever_quick.py", "test_artificial_stress.py", "validation/test_stability_ci.py",
@@ -12,6 +14,10 @@ def _rank(item):
         if path.endswith(name):
             return rank
     return len(LONG_FILES)
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: over ~10 s on one thread; left out of `make test-fast`")
 
 
 def pytest_collection_modifyitems(items):

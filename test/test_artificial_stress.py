@@ -17,6 +17,9 @@ from sph_fsi_core.diagnostics import Diverged
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 
+
+pytestmark = pytest.mark.slow   # over ~10 s on one thread: left out of `make test-fast`
+
 PROVOKING = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_margin=2",
              "geometry.tip_velocity=8.0", "solid.artificial_viscosity_alpha=0.1", "output.snapshot_interval=0",
              "output.timeseries_interval=1e-4"]

@@ -85,6 +85,7 @@ def small_beam_runs():
     return {clamp: _run(clamp, 0.0) for clamp in ("fixed", "mirrored")}
 
 
+@pytest.mark.slow
 def test_mirrored_clamp_keeps_the_energy_of_a_free_oscillation(small_beam_runs):
     """The ghosts' forces are moved to their images so that the force pairs with the body's stress power:
     without viscosity the energy stays. Measured: last over first period-mean 1.00000004 (fixed clamp 0.9999999)."""
@@ -94,6 +95,7 @@ def test_mirrored_clamp_keeps_the_energy_of_a_free_oscillation(small_beam_runs):
     assert abs(means[-1] / means[0] - 1.0) < 1e-4
 
 
+@pytest.mark.slow
 def test_mirrored_clamp_brings_the_short_beam_closer_to_3d_elasticity(small_beam_runs):
     """12 x 3 x 4 mm beam at H/dp = 4, where the fixed clamp's half spacing of extra length is 4 % of L.
 
@@ -126,6 +128,7 @@ def test_mirrored_clamp_under_a_violent_swing_stops_with_a_diagnosis_not_nans():
     assert np.isfinite(sim.solid.pos).all() and np.isfinite(sim.solid.vel).all()
 
 
+@pytest.mark.slow
 def test_mirrored_clamp_with_the_gradient_integration_rides_out_the_violent_swing():
     """The same throw with the strain-gradient nodal integration (the cantilever scene's default): its cell-scale
     stiffness keeps the particles near the clamp apart (measured: stable over 30 ms, closest approach 0.68 dp)."""

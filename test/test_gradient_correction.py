@@ -3,7 +3,7 @@
 On a block of particles a linear velocity field v = A r has gradient A everywhere. The plain SPH sum is exact
 in the interior of a lattice only up to the kernel sum (about 0.99 at h = 1.3 dp) and is badly wrong at the free
 surfaces, where the kernel is cut: there a rigid rotation shows up as strain, which is what made the paper's thin
-beam too stiff in rotation (docs/validation/FINDINGS.md). The corrected gradient is exact for linear fields on
+beam too stiff in rotation (docs/method.md, the velocity gradient). The corrected gradient is exact for linear fields on
 every particle, surface and corners included.
 """
 import numpy as np

@@ -124,6 +124,7 @@ def small_beam():
     return out
 
 
+@pytest.mark.slow
 def test_inviscid_beam_keeps_its_energy_with_the_gradient_term(small_beam):
     """Measured: last over first period-mean 0.99999 (plain: 0.9999999)."""
     _, t, z, energy = small_beam["gradient"]
@@ -132,6 +133,7 @@ def test_inviscid_beam_keeps_its_energy_with_the_gradient_term(small_beam):
     assert abs(means[-1] / means[0] - 1.0) < 1e-4
 
 
+@pytest.mark.slow
 def test_gradient_integration_brings_the_short_beam_towards_3d_elasticity(small_beam):
     """12 x 3 x 4 mm at H/dp = 4. 3D elasticity (fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements,
     184.41 Hz with 0.5 mm, converging from above. Measured: plain 165.0 Hz (-10.5 % against 184.4), gradient
@@ -161,6 +163,7 @@ def _locked_fraction(extra):
     return se[crossings] / (se[crossings] + ke[crossings])
 
 
+@pytest.mark.slow
 def test_the_fit_refreshed_as_the_beam_turns_locks_no_energy_in_self_balanced_stress():
     """12 mm beam swinging at 0.3 m/s, ten zero crossings. With the fit's rows remade only at neighbour-list builds
     (a refresh turn of 1, never reached) the stale rows leak rotation into the fitted curvature and the strain

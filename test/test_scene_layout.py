@@ -3,6 +3,7 @@ bodies that overlap or leave the domain, and an empty scene, are refused with a 
 (The cantilever's table of bad input is in test_scene.py.)"""
 import numpy as np
 import pytest
+from scipy.spatial import cKDTree
 
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import BUILDERS
@@ -46,9 +47,24 @@ def test_bad_scene_input_is_refused_before_the_first_step(scene, overrides, word
 
 
 @pytest.mark.parametrize("scene", sorted(BUILDERS))
-def test_every_builtin_scene_passes_the_layout_check(scene):
+def test_every_builtin_scene_is_one_lattice_inside_its_domain(scene):
+    """Every particle of every body has its nearest neighbour (of any body) exactly one spacing away, lies inside
+    the domain box, and a periodic axis closes the lattice: each body spans the period less one spacing. The
+    layout check passes."""
     spec = load_scene(scene)
-    check_layout(BUILDERS[scene].build(spec.values), spec["numerics.spacing"])   # raises on a bad layout
+    dp = spec["numerics.spacing"]
+    built = BUILDERS[scene].build(spec.values)
+    bodies = [s.pos for s in (built.solid, built.fluid, built.walls) if s is not None and len(s.pos)]
+    pos = np.concatenate(bodies)
+    assert len(pos) > 1000
+    nearest, _ = cKDTree(pos).query(pos, k=2)
+    assert nearest[:, 1] == pytest.approx(np.full(len(pos), dp), rel=1e-9)
+    assert np.all(pos.min(axis=0) >= built.domain_lo) and np.all(pos.max(axis=0) <= built.domain_hi)
+    for axis in np.flatnonzero(built.period > 0.0):
+        assert built.period[axis] / dp == pytest.approx(round(built.period[axis] / dp), abs=1e-9)
+        for body in bodies:
+            assert np.ptp(body[:, axis]) + dp == pytest.approx(built.period[axis], rel=1e-9)
+    assert check_layout(built, dp) is None
 
 
 def _block(n, dp, offset):
@@ -63,8 +79,18 @@ def _built(fluid_offset, dp=0.01):
     return Built(solid=solid, fluid=fluid, walls=walls, domain_lo=np.full(3, -0.1), domain_hi=np.full(3, 0.2))
 
 
-def test_bodies_one_spacing_apart_pass():
-    check_layout(_built((0.04, 0.0, 0.0)), 0.01)     # the fluid block touches the solid's face, one dp apart
+@pytest.mark.parametrize("gap", [0.01, 0.0055])
+def test_bodies_more_than_half_a_spacing_apart_pass(gap):
+    """The solid block's face is at x = 0.035: a fluid block one spacing or 0.55 spacings from it passes."""
+    built = _built((0.035 + gap - 0.005, 0.0, 0.0))
+    assert cKDTree(built.solid.pos).query(built.fluid.pos)[0].min() == pytest.approx(gap, rel=1e-9)
+    assert check_layout(built, 0.01) is None
+
+
+def test_bodies_less_than_half_a_spacing_apart_are_refused():
+    """0.45 spacings apart: the 4 x 4 particles of the facing layers, one pair each."""
+    with pytest.raises(SceneError, match=r"overlap: 16 particle pair\(s\) closer than half numerics.spacing = 0.005 m"):
+        check_layout(_built((0.035 + 0.0045 - 0.005, 0.0, 0.0)), 0.01)
 
 
 def test_overlapping_bodies_are_refused_naming_both_particles():

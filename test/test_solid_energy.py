@@ -9,6 +9,9 @@ from sph_fsi_core.validation.oscillation import measure_frequency, period_averag
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 
+
+pytestmark = pytest.mark.slow   # over ~10 s on one thread: left out of `make test-fast`
+
 SMALL_BEAM = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_margin=2",
               "output.snapshot_interval=0", "output.timeseries_interval=5e-5"]
 

@@ -54,26 +54,101 @@ class StepReport(NamedTuple):
     rebuilds: int
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstart, findex, f_fluid, wall_pos,
-                    wall_mass, wall_p_over_rho2, wstart, windex, f_wall, active, wfstart, wfindex, period, xz_periodic,
-                    crossing, wall_crossing, h, rho0, c2, dt2, tolerance, on_mean, min_iterations, max_iterations,
-                    pos_at_build, half_skin, disp, total, moved2, buf, density_buf, blocks):
-    """The density-correction iterations of one step, from iteration `it_start` (lists valid on entry).
+class FluidArrays(NamedTuple):
+    """The fluid's particle arrays the correction loop moves and writes (state.FluidState's, N particles)."""
+    pos: np.ndarray                      # (N, 3) m, r*, corrected in place
+    mass: np.ndarray                     # (N,) kg
+    rho: np.ndarray                      # (N,) kg/m^3, eq. (1)'s summation density at the current positions
+    pressure: np.ndarray                 # (N,) Pa, the sum of the step's iteration pressures (7)
+    correction_displacement: np.ndarray  # (N, 3) m, the step's correction so far, r - r* (eq. (10)'s coupling)
 
-    Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD when a particle
-    has moved more than half the skin since the lists were built (the caller rebuilds and calls again).
-    Four parallel passes per iteration: density with (7), wall pressure, position correction, apply.
+    @classmethod
+    def of(cls, fluid):
+        """The arrays of a state.FluidState (the same arrays, not copies)."""
+        return cls(fluid.pos, fluid.mass, fluid.rho, fluid.pressure, fluid.correction_displacement)
+
+
+class FluidWalls(NamedTuple):
+    """The fluid's wall particles (fixed walls, or the coupling's moving boundary), M of them; empty without."""
+    pos: np.ndarray           # (M, 3) m
+    mass: np.ndarray          # (M,) kg
+    p_over_rho2: np.ndarray   # (M,) Pa m^6/kg^2, p_w / rho0^2 of eq. (2), written by the wall pressure pass
+
+
+class FluidNeighbours(NamedTuple):
+    """The fluid's three lists (fluid/neighbours.py; row a of a list is index[start[a]:start[a + 1]]) and the box."""
+    fluid_start: np.ndarray        # (N + 1,) int64, the fluid-fluid half list (each pair once)
+    fluid_index: np.ndarray        # (P,)
+    wall_start: np.ndarray         # (N + 1,) int64, fluid -> wall
+    wall_index: np.ndarray         # (Pw,)
+    active_walls: np.ndarray       # (A,) int64, the wall particles within reach of the water, one row each below
+    wall_fluid_start: np.ndarray   # (A + 1,) int64, wall -> fluid, row i for wall particle active_walls[i]
+    wall_fluid_index: np.ndarray   # (Pw',)
+    crossing: np.ndarray           # (N,) bool, fluid rows (fluid and wall) that may need the minimum image
+    wall_crossing: np.ndarray      # (A,) bool, wall -> fluid rows that may
+    targets_at_build: np.ndarray   # (N, 3) m, the fluid positions the lists were built at (the skin test)
+    period: np.ndarray             # (3,) m, the periodic box's lengths (0: not periodic)
+    xz_periodic: object            # None or True: okaji.xz_periodic_marker(period)
+
+
+class CorrectionParams(NamedTuple):
+    """The numbers of one step's density correction (module docstring)."""
+    h: float               # m, smoothing length
+    rho0: float            # kg/m^3, reference density
+    c2: float              # m^2/s^2, c^2 of eq. (7) (FluidSolver.correction_c)
+    dt2: float             # s^2, the step's dt^2
+    tolerance: float       # fluid.density_tolerance, on the relative compression (rho - rho0)_+ / rho0
+    on_mean: bool          # the tolerance applies to the mean compression (else the maximum)
+    min_iterations: int
+    max_iterations: int    # the cap: reaching it ends the step as CAPPED
+    half_skin: float       # m, a particle moved further than this since the build needs new lists
+
+
+class FluidBuffers(NamedTuple):
+    """FluidSolver's work arrays as the correction loop takes them; C chunks (threads) of the half-list passes.
+
+    The pair caches are replaced when the lists outgrow them (FluidSolver.rebuild): take them after that."""
+    p: np.ndarray             # (N,) Pa, this iteration's pressure of eq. (7)
+    p_over_rho2: np.ndarray   # (N,) Pa m^6/kg^2, p / rho^2 of eq. (2)
+    f_fluid: np.ndarray       # (>= P,) 1/m^5, pair cache F_ab = (dW/dr)/r of the fluid list
+    f_wall: np.ndarray        # (>= Pw,) 1/m^5, the same for the fluid -> wall list
+    disp: np.ndarray          # (N, 3) m, one iteration's position correction dt^2 dv/dt
+    moved2: np.ndarray        # (N,) m^2, squared distance from targets_at_build
+    buf: np.ndarray           # (C, N, 3) per-chunk sums of the pressure pass
+    density_buf: np.ndarray   # (C, N) per-chunk sums of the density pass
+    blocks: np.ndarray        # (C, columns) pair-block scratch (numerics/pair_blocks.py)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def correction_loop(it_start, fluid, walls, neighbours, prm, work):
+    """The density-correction iterations of one step (Okaji 2002 as in Satake et al. sec. 2.2: eq. (1), (7), (2)),
+    from iteration `it_start` (lists valid on entry).
+
+    `fluid`: FluidArrays, `walls`: FluidWalls, `neighbours`: FluidNeighbours, `prm`: CorrectionParams, `work`:
+    FluidBuffers. Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD
+    when a particle has moved more than half the skin since the lists were built (the caller rebuilds and calls
+    again). Four parallel passes per iteration: density with (7), wall pressure, position correction, apply.
     """
+    pos, mass, rho = fluid.pos, fluid.mass, fluid.rho
+    accumulated, total = fluid.pressure, fluid.correction_displacement
+    wall_pos, wall_mass, wall_p_over_rho2 = walls.pos, walls.mass, walls.p_over_rho2
+    fstart, findex = neighbours.fluid_start, neighbours.fluid_index
+    wstart, windex = neighbours.wall_start, neighbours.wall_index
+    active, wfstart, wfindex = neighbours.active_walls, neighbours.wall_fluid_start, neighbours.wall_fluid_index
+    crossing, wall_crossing, pos_at_build = neighbours.crossing, neighbours.wall_crossing, neighbours.targets_at_build
+    period, xz_periodic = neighbours.period, neighbours.xz_periodic
+    h, rho0, c2, dt2 = prm.h, prm.rho0, prm.c2, prm.dt2
+    p, p_over_rho2, f_fluid, f_wall = work.p, work.p_over_rho2, work.f_fluid, work.f_wall
+    disp, moved2, buf, density_buf, blocks = work.disp, work.moved2, work.buf, work.density_buf, work.blocks
     it = it_start
     while True:
         summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, crossing,
                           h, rho0, c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
         emax, emean = compression_error(rho, rho0)
-        err = emean if on_mean else emax
-        if it >= min_iterations and err <= tolerance:
+        err = emean if prm.on_mean else emax
+        if it >= prm.min_iterations and err <= prm.tolerance:
             return it, emax, emean, CONVERGED
-        if it >= max_iterations:
+        if it >= prm.max_iterations:
             return it, emax, emean, CAPPED
         if wall_pos.shape[0] > 0:
             wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, wall_crossing, h, rho0,
@@ -83,7 +158,7 @@ def correction_loop(it_start, pos, mass, rho, p, p_over_rho2, accumulated, fstar
                               accumulated, buf)
         apply_displacement(pos, disp, total, pos_at_build, moved2)
         it += 1
-        if _largest(moved2) > half_skin * half_skin:
+        if _largest(moved2) > prm.half_skin * prm.half_skin:
             return it, -1.0, -1.0, NEEDS_REBUILD
 
 
@@ -198,6 +273,18 @@ class FluidSolver:
         return (self.wall_neighbours.start, self.wall_neighbours.index, self.wall_fluid_neighbours.start,
                 self.wall_fluid_neighbours.index)
 
+    def neighbours(self):
+        """The lists as the correction loop takes them (replaced by every rebuild)."""
+        nb = self.fluid_neighbours
+        wstart, windex, wfstart, wfindex = self._wall_rows()
+        return FluidNeighbours(nb.start, nb.index, wstart, windex, self.active_walls, wfstart, wfindex, self.crossing,
+                               self.wall_crossing, nb.targets_at_build, self.period, self.xz_periodic)
+
+    def buffers(self):
+        """The work arrays as the correction loop takes them (the pair caches may be replaced by a rebuild)."""
+        return FluidBuffers(self.p, self.p_over_rho2, self.f_fluid, self.f_wall, self.disp, self.moved2, self.buf,
+                            self.density_buf, self.blocks)
+
     def density(self):
         """Eq. (1) at the current positions (lists must be valid); returns (max, mean) compression."""
         fl, nb = self.fluid, self.fluid_neighbours
@@ -235,20 +322,17 @@ class FluidSolver:
         fl.correction_displacement[:] = 0.0
         fl.pressure[:] = 0.0
         c = self.correction_c(dt)
+        arrays = FluidArrays.of(fl)
+        walls = FluidWalls(self.wall_pos, self.wall_mass, self.wall_p_over_rho2)
+        prm = CorrectionParams(self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations,
+                               self.max_iterations, 0.5 * self.skin)
         it, rebuilds = 0, 0
         while True:
             if self.fluid_neighbours.is_stale(fl.pos, fl.pos):
                 self.rebuild()
                 rebuilds += 1
-            nb = self.fluid_neighbours
-            wstart, windex, wfstart, wfindex = self._wall_rows()
-            it, emax, emean, status = correction_loop(
-                it, fl.pos, fl.mass, fl.rho, self.p, self.p_over_rho2, fl.pressure, nb.start, nb.index, self.f_fluid,
-                self.wall_pos, self.wall_mass, self.wall_p_over_rho2, wstart, windex, self.f_wall, self.active_walls,
-                wfstart, wfindex, self.period, self.xz_periodic, self.crossing, self.wall_crossing, self.h, self.rho0,
-                c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations, self.max_iterations,
-                nb.targets_at_build, 0.5 * self.skin, self.disp, fl.correction_displacement, self.moved2, self.buf,
-                self.density_buf, self.blocks)
+            # a rebuild replaces the lists and may replace the pair caches: taken anew each call
+            it, emax, emean, status = correction_loop(it, arrays, walls, self.neighbours(), prm, self.buffers())
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it
@@ -256,6 +340,7 @@ class FluidSolver:
             self.rebuild()
             rebuilds += 1
         velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
+        nb = self.fluid_neighbours
         if self.nu > 0.0:
             viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period,
                              self.xz_periodic, self.crossing, self.h, self.nu, dt, self.vel_work, self.buf)

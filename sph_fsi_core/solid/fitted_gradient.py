@@ -8,7 +8,7 @@ kernel radius of a surface, where
   underestimates the axial strain of bending (outer fibre: 0.85 dp of 1.5 dp on the paper's lattice), and
 - the kernel-corrected gradient L K^-1 (exact for linear fields) still evaluates the strain of a curved field
   at the centroid of the particle's one-sided neighbourhood (outer fibre: 1.20 dp of 1.5 dp), so a bent beam
-  comes out 30 % too soft (docs/validation/FINDINGS.md).
+  comes out 30 % too soft (docs/method.md, the velocity gradient).
 
 Here each particle fits v_b - v_a ~ g . d + d^T H d / 2 over its neighbours with weights V_b W_ab (nine
 unknowns, u = d / h keeps the moment matrix well scaled), which is exact for quadratic velocity fields:

@@ -4,7 +4,7 @@ Not in the paper. The particle scheme integrates the strain energy at the nodes:
 each particle's strain taken at its centre. In bending the strain varies linearly across every particle's cell,
 and the centre value misses the cell's own second moment: on the paper's beam (4 layers at +-0.5 and +-1.5 dp)
 sum z^2 = 5 dp^2 against H^3 / 12 = 5.33 dp^2, so EI comes out 6 % short and the frequency 3.2 %
-(docs/validation/FINDINGS.md). A Taylor expansion of the strain over the cell (a cube of side dp: second moment
+(docs/method.md, "Strain-gradient nodal integration"). A Taylor expansion of the strain over the cell (a cube of side dp: second moment
 m = dp^2 / 12 in each direction) adds
 
     sum_a V_a m sum_k (d_k S_a : d_k eps_a) / 2,
@@ -13,7 +13,7 @@ which makes the (deviatoric) energy exact for strain linear across each cell (th
 stabilized nodal integration, Hillman & Chen 2016, IJNME 107). Only the deviatoric stress S gets the term: in
 bending it carries all but 1 % of the energy at nu = 0.49 (87 % at nu = 0.3), while the volumetric one, with
 K = 50 G at nu = 0.49, penalised the fit's volumetric strain gradient so hard that the paper's beam came out 5 %
-stiff with its first mode trading energy away within a period (docs/validation/FINDINGS.md).
+stiff with its first mode trading energy away within a period (docs/method.md, "Strain-gradient nodal integration").
 
 The quadratic fit of solid/fitted_gradient.py already determines the velocity's second derivatives: with rows 3..8 of M_a^-1,
     d_j d_k v_a = sum_b (v_b - v_a) Gh_ab[jk],   Gh_ab = V_b W_ab (rows 3..8 of M_a^-1) p(u_ab) / h^2

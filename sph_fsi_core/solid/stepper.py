@@ -41,7 +41,7 @@ from .fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_BLOCK_COLUMNS
 from .fitted_gradient import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
 # solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
-# (docs/validation/FINDINGS.md: with rows kept from one list build to the next, 46 % of the paper's beam's energy
+# (docs/method.md, "Strain-gradient nodal integration": with rows kept from one list build to the next, 46 % of the paper's beam's energy
 # ended up locked in self-balanced stress within 7 periods)
 GRADIENT_FIT_REFRESH_TURN = 1e-4
 
@@ -81,13 +81,79 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
                        fit_refresh_turn or (GRADIENT_FIT_REFRESH_TURN if nodal_integration == "gradient" else 0.0))
 
 
+class SolidArrays(NamedTuple):
+    """The solid's particle state as the compiled drivers take it (state.SolidState's arrays, N particles).
+
+    The drivers advance pos, vel, rho, stress, stress_gradient and acc in place; pressure is written by the
+    acceleration pass; mass and movable are read only.
+    """
+    pos: np.ndarray               # (N, 3) m
+    vel: np.ndarray               # (N, 3) m/s
+    rho: np.ndarray               # (N,) kg/m^3
+    stress: np.ndarray            # (N, 6) Pa, deviatoric S in XX, YY, ZZ, XY, XZ, YZ order
+    mass: np.ndarray              # (N,) kg
+    movable: np.ndarray           # (N,) bool; False: clamp particle
+    pressure: np.ndarray          # (N,) Pa, p = c0^2 (rho - rho0) of eq. (5)'s sigma = -p I + S
+    acc: np.ndarray               # (N, 3) m/s^2, eq. (5) at the current positions
+    stress_gradient: np.ndarray   # (N, 3, 6) Pa/m, d_k S of solid.nodal_integration = gradient; else (0, 3, 6)
+
+    @classmethod
+    def of(cls, solid):
+        """The arrays of a state.SolidState (the same arrays, not copies)."""
+        return cls(solid.pos, solid.vel, solid.rho, solid.stress, solid.mass, solid.movable, solid.pressure,
+                   solid.acc, solid.stress_gradient)
+
+
+class SolidNeighbours(NamedTuple):
+    """The solid's half neighbour list (numerics.neighbours.NeighbourList: each pair once) and the periodic box."""
+    start: np.ndarray              # (N + 1,) int64, row a is index[start[a]:start[a + 1]]
+    index: np.ndarray              # (pairs,) the neighbours b > a of each row
+    crossing: np.ndarray           # (N,) bool, the rows that may need the minimum image
+    targets_at_build: np.ndarray   # (N, 3) m, the positions the list was built at (the skin test)
+    period: np.ndarray             # (3,) m, the periodic box's lengths (0: not periodic)
+
+    @classmethod
+    def of(cls, neighbours, period):
+        """The arrays of a built NeighbourList (taken anew after each rebuild, which replaces them)."""
+        return cls(neighbours.start, neighbours.index, neighbours.crossing, neighbours.targets_at_build, period)
+
+
+class SolidBuffers(NamedTuple):
+    """SolidWork's arrays as the compiled drivers take them (SolidWork.buffers()); N particles, P pairs of the list,
+    C chunks (threads) of the half-list passes. Rates are per second; the pair cache belongs to the list's build."""
+    vhat: np.ndarray              # (N, 3) m/s, the XSPH velocity that moves particles
+    volume: np.ndarray            # (N,) m^3, m / rho once per step (particle_volumes)
+    grad_v: np.ndarray            # (N, 3, 3) 1/s, the velocity gradient L of eq. (4)
+    drho: np.ndarray              # (N,) kg/m^3/s, eq. (3)'s continuity rate
+    dstress: np.ndarray           # (N, 6) Pa/s, the Jaumann Hooke rate of eq. (3)
+    sigma_over_rho2: np.ndarray   # (N, 6) m^2/s^2 (Pa m^6/kg^2), sigma / rho^2 of eq. (5)
+    art_stress: np.ndarray        # (N, 6) m^2/s^2, Gray's artificial stress R / rho^2
+    eig_work: np.ndarray          # (N, 10, 3) eigen-solver scratch, rows 3..5 the warm-started eigenvectors
+    kinv: np.ndarray              # (N, 3, 3) kernel-gradient correction K^-1 (solid.velocity_gradient = linear)
+    mls_rows: np.ndarray          # (N, 3 or 9, 9) rows of the quadratic fit's M^-1 (solid/fitted_gradient.py)
+    mls_weights: np.ndarray       # (P, 6) pair cache of the quadratic fit (G_ab, G_ba); (0, 6) without it
+    w: np.ndarray                 # (P,) 1/m^3, pair cache W_ab
+    f: np.ndarray                 # (P,) 1/m^5, pair cache F_ab (grad W_ab = F_ab r_ab)
+    buf: np.ndarray               # (C, N, 18) per-chunk sums of the velocity gradient passes
+    vector_buf: np.ndarray        # (C, N, 3) per-chunk sums of the momentum passes
+    scalar_buf: np.ndarray        # (C, N) per-chunk sums of the continuity pass
+    blocks: np.ndarray            # (C, columns) pair-block scratch (numerics/pair_blocks.py)
+    hessian: np.ndarray           # (N or 0, 3, 6) 1/(m s), velocity Hessian (solid/gradient_integration.py)
+    dstress_gradient: np.ndarray  # (N or 0, 3, 6) Pa/(m s), rate of the stress gradient
+    force_rows: np.ndarray        # (N or 0, 3, 9) the stress gradient's force rows
+    hessian_moments: np.ndarray   # (C, N or 0, 27) per-chunk sums of the Hessian pass
+    turn: np.ndarray              # (N,) integral of |L| dt since the fit rows were made (dimensionless)
+    fit_refresh: np.ndarray       # (1,) int64, set to 1 by the driver when the fit rows are due
+
+
 class SolidWork:
     """Scratch arrays of the solid passes, allocated once per build.
 
     Per-chunk accumulators of the half-list passes, one chunk per thread: `buf` (chunks, N, 18) for the velocity
     gradient passes, `vector_buf` (chunks, N, 3) for the momentum passes and `scalar_buf` (chunks, N) for the
     continuity pass (each pass zeroes and sums only its own numbers: three columns of the wide buffer moved all
-    of it through the cache); `blocks`: their pair blocks (pair_blocks.py).
+    of it through the cache); `blocks`: their pair blocks (pair_blocks.py). The pair cache (w, f, mls_weights) and
+    moment_buf are replaced when the list is rebuilt: take `buffers()` after that, for each driver call.
     """
 
     def __init__(self, n, hessian_rows=False):
@@ -126,6 +192,14 @@ class SolidWork:
             self.w = np.zeros(npairs)
             self.f = np.zeros(npairs)
 
+    def buffers(self):
+        """The arrays the drivers use, as they are now (after any reallocation)."""
+        return SolidBuffers(self.vhat, self.volume, self.grad_v, self.drho, self.dstress, self.sigma_over_rho2,
+                            self.art_stress, self.eig_work, self.kinv, self.mls_rows, self.mls_weights, self.w,
+                            self.f, self.buf, self.vector_buf, self.scalar_buf, self.blocks, self.hessian,
+                            self.dstress_gradient, self.force_rows, self.hessian_moments, self.turn,
+                            self.fit_refresh)
+
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def mirror_clamp_velocities(vel, clamp_mirror):
@@ -153,12 +227,20 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period, crossing,
-                       prm, sigma_over_rho2, art_stress, eig_work, w, f, vector_buf, kinv, mls_rows, mls_weights,
-                       clamp_mirror, stress_gradient, force_rows, blocks):
-    """Eq. (5) into `acc` (zero for clamp particles), refreshing the pair cache at the current positions;
-    `vector_buf` (chunks, N, 3): the momentum pass's per-chunk sums (SolidWork); `crossing`: the rows that may
-    need the minimum image (neighbours.NeighbourList.crossing)."""
+def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
+    """Eq. (5) (Satake et al.; Gray, Monaghan & Swift 2001) into state.acc (zero for clamp particles), refreshing
+    the pair cache at the current positions.
+
+    `state`: SolidArrays, `neighbours`: SolidNeighbours, `prm`: SolidParams, `work`: SolidBuffers; `ext_acc`
+    (N, 3) m/s^2 added to movable particles (the fluid's push), or (0, 3) for none; `clamp_mirror` (N,) int64,
+    the ghost clamp's mirror images (solid.clamp = mirrored), or empty.
+    """
+    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
+    pressure, acc, stress_gradient = state.pressure, state.acc, state.stress_gradient
+    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
+    sigma_over_rho2, art_stress, eig_work = work.sigma_over_rho2, work.art_stress, work.eig_work
+    w, f, vector_buf, kinv, blocks = work.w, work.f, work.vector_buf, work.kinv, work.blocks
+    mls_rows, mls_weights, force_rows = work.mls_rows, work.mls_weights, work.force_rows
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
@@ -203,19 +285,26 @@ def _max_norm(v):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index,
-                   period, crossing, pos_at_build, prm, vhat, grad_v, drho, dstress, sigma_over_rho2, art_stress,
-                   eig_work, w, f, buf, kinv, mls_rows, mls_weights, clamp_mirror, stress_gradient, hessian,
-                   dstress_gradient, force_rows, hessian_moments, turn, fit_refresh, blocks, volume, vector_buf,
-                   scalar_buf):
-    """Advance up to `n_steps` leapfrog steps; returns the number done (fewer: the neighbour list needs a rebuild).
+def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror):
+    """Advance up to `n_steps` leapfrog steps of the module docstring (Satake et al. eqs. (3)-(5), the solid of
+    Gray, Monaghan & Swift 2001); returns the number done (fewer: the neighbour list needs a rebuild).
 
-    `force_first`: take the first step even if the skin test fails (used right after a rebuild, when a particle
-    faster than half the skin per step would otherwise stall the run; the watchdog's speed limit catches those).
-    Also returns early, with fit_refresh[0] = 1, once some particle's neighbourhood has turned or strained by
-    prm.fit_refresh_turn (the integral of |L| dt) since the quadratic fit's rows were made: the rows belong to the
-    positions they were made at, and a stale fit leaks the linear part of the motion into the fitted curvature.
+    `state`: SolidArrays, advanced in place; `neighbours`: SolidNeighbours; `prm`: SolidParams; `work`:
+    SolidBuffers; `ext_acc`, `clamp_mirror`: as solid_acceleration's. `force_first`: take the first step even if
+    the skin test fails (used right after a rebuild, when a particle faster than half the skin per step would
+    otherwise stall the run; the watchdog's speed limit catches those). Also returns early, with
+    work.fit_refresh[0] = 1, once some particle's neighbourhood has turned or strained by prm.fit_refresh_turn
+    (the integral of |L| dt) since the quadratic fit's rows were made: the rows belong to the positions they were
+    made at, and a stale fit leaks the linear part of the motion into the fitted curvature.
     """
+    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
+    acc, stress_gradient = state.acc, state.stress_gradient
+    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
+    pos_at_build = neighbours.targets_at_build
+    vhat, volume, grad_v, drho, dstress = work.vhat, work.volume, work.grad_v, work.drho, work.dstress
+    w, f, buf, scalar_buf, kinv = work.w, work.f, work.buf, work.scalar_buf, work.kinv
+    mls_rows, mls_weights, turn, fit_refresh = work.mls_rows, work.mls_weights, work.turn, work.fit_refresh
+    hessian, dstress_gradient, hessian_moments = work.hessian, work.dstress_gradient, work.hessian_moments
     n = pos.shape[0]
     ghost_clamp = clamp_mirror.shape[0] > 0
     for step in range(n_steps):
@@ -262,9 +351,7 @@ def solid_leapfrog(n_steps, force_first, dt, pos, vel, rho, stress, mass, movabl
                 # the ghost's displacement is its image's, reversed, as its velocity is
                 for k in range(3):
                     pos[a, k] -= dt * vhat[clamp_mirror[a], k]
-        solid_acceleration(pos, vel, rho, stress, mass, movable, pressure, acc, ext_acc, start, index, period, crossing,
-                           prm, sigma_over_rho2, art_stress, eig_work, w, f, vector_buf, kinv, mls_rows, mls_weights,
-                           clamp_mirror, stress_gradient, force_rows, blocks)
+        solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
         for a in range(n):
             if movable[a]:
                 for k in range(3):

@@ -2,3 +2,7 @@
 (references, reference_data/), the 3D finite-element reference (fe_reference), the oscillation analysis
 (oscillation), the validation ladders (cases: what runs; ladder: running them; report: tables and plots) and the
 stiff and extreme cases (stability)."""
+
+# Where `sph-fsi validate` and `sph-fsi stability` write unless told otherwise: a user's run never overwrites the
+# project's committed report; `--out docs/validation` publishes into it on purpose.
+DEFAULT_OUT_DIR = "runs/validation"

@@ -30,7 +30,8 @@ def cantilever_end_time(overrides, periods):
 
 def _cantilever_rungs():
     rungs = []
-    # The scene's scheme: the quadratic fit with the strain-gradient nodal integration (config/cantilever.yaml).
+    # The scene's scheme, quadratic_gradient: the quadratic fit with the strain-gradient nodal integration
+    # (config/cantilever.yaml).
     # Resolution ladder H/dp = 4, 6, 8 (2.25 periods of the reference each: the zero-crossing fit and the damping
     # ratio need two full periods of the tip). CI runs H/dp = 4 (the paper's spacing), bound 3 %.
     for ratio, quick in ((4, True), (6, False), (8, False)):
@@ -45,26 +46,29 @@ def _cantilever_rungs():
     # The paper's beam at the paper's spacing, 10 periods: frequency, damping, energy, sideways mode.
     rungs.append(Rung("cantilever", "L40_dp1.0_10periods", "cantilever", {}, periods=10.0,
                       note="the paper's beam, 10 periods"))
-    # The same beams with the plain nodal integration (each particle's strain at its centre, the scheme before
-    # the gradient integration; a 4-layer beam's EI 6 % short, docs/method.md).
-    plain = {"solid.nodal_integration": "plain"}
+    # The same beams with quadratic_plain, the plain nodal integration (each particle's strain at its centre, the
+    # scheme before the gradient integration; a 4-layer beam's EI 6 % short, docs/method.md).
+    plain = {"solid.scheme": "quadratic_plain"}
     for ratio in (4, 6, 8):
         dp = 0.004 / ratio
         rungs.append(Rung("cantilever_plain_ladder", f"H_over_dp_{ratio}", "cantilever",
                           {"numerics.spacing": dp, **plain}, periods=2.25,
-                          note=f"dp = {dp * 1e3:.3f} mm, solid.nodal_integration = plain"))
+                          note=f"dp = {dp * 1e3:.3f} mm, solid.scheme = quadratic_plain"))
     rungs += [Rung("cantilever_plain_length", f"L{length_mm}", "cantilever",
                    {"geometry.length": length_mm * 1e-3, **plain}, periods=2.25,
-                   note=f"L = {length_mm} mm, dp = 1 mm, solid.nodal_integration = plain")
+                   note=f"L = {length_mm} mm, dp = 1 mm, solid.scheme = quadratic_plain")
               for length_mm in (40, 60, 80, 100, 120)]
     rungs.append(Rung("cantilever_plain", "L40_dp1.0_10periods", "cantilever", plain, periods=10.0,
-                      note="the paper's beam, 10 periods, solid.nodal_integration = plain"))
-    # The paper's own scheme (Gray's SPH gradient, plain sum) on the same beams: close at L = 40 mm, too stiff
-    # beyond.
+                      note="the paper's beam, 10 periods, solid.scheme = quadratic_plain"))
+    # The paper's own scheme (gray2001: Gray's SPH gradient, plain sum) on the same beams: close at L = 40 mm, too
+    # stiff beyond. As these rungs were run (the cantilever scene's artificial stress was 0 and its step factor
+    # 0.25): without gray2001's artificial stress and at the quadratic schemes' step factor.
+    paper = {"solid.scheme": "gray2001", "solid.artificial_stress_epsilon": 0.0, "solid.cfl": 0.25}
     for length_mm in (40, 60, 80):
         rungs.append(Rung("cantilever_paper_scheme", f"L{length_mm}", "cantilever",
-                          {"geometry.length": length_mm * 1e-3, "solid.velocity_gradient": "sph", **plain},
-                          periods=2.25, note=f"L = {length_mm} mm, dp = 1 mm, solid.velocity_gradient = sph"))
+                          {"geometry.length": length_mm * 1e-3, **paper},
+                          periods=2.25, note=f"L = {length_mm} mm, dp = 1 mm, solid.scheme = gray2001 without "
+                                             f"artificial stress, solid.cfl = 0.25"))
     return rungs
 
 
@@ -91,50 +95,54 @@ def _gate_rungs():
 
     antoci_gate: Antoci et al. 2007's measured free end over 0-0.4 s at dp = 2.5 mm (2 particles through the 5 mm
     gate) and 5/3 mm (3) with Gray's SPH gradient, and at 5/3 and 1.25 mm (4) with the quadratic fit (the scene's
-    solid since session 3). elastic_gate: the paper's case to t = 0.14 s at 2 mm and at the paper's 1 mm (80k-particle
-    class runs: the 1 mm rungs are the long ones). CI runs shorter versions (test/validation/test_gate_quick.py).
+    solid since session 3: solid.scheme = quadratic_plain_artificial_stress). elastic_gate: the paper's case to
+    t = 0.14 s at 2 mm and at the paper's 1 mm (80k-particle class runs: the 1 mm rungs are the long ones). CI runs
+    shorter versions (test/validation/test_gate_quick.py).
     """
     rungs = []
+    # Gray's scheme as these rungs were run: at the quadratic schemes' step factor (the Antoci scene never set 0.5).
+    gray = {"solid.scheme": "gray2001", "solid.cfl": 0.25}
     for dp, label in ((0.0025, "dp2.5mm"), (0.005 / 3, "dp1.67mm")):
         for model in ("pressure", "seed"):
             rungs.append(Rung("antoci_gate", f"{model}_{label}", "antoci_gate",
-                              {"numerics.spacing": dp, "coupling.model": model, "solid.velocity_gradient": "sph"},
-                              end_time=0.4, note=f"dp = {dp * 1e3:.3g} mm, coupling {model}, Gray's SPH gradient; "
-                                                 f"free end vs Antoci et al. 2007"))
-    # With three layers through the 5 mm gate the default quadratic-fit solid is determined; the scene pins Gray's
-    # SPH gradient (its runs' scheme), which is too stiff at this gate's L/H = 16 (FINDINGS.md).
+                              {"numerics.spacing": dp, "coupling.model": model, **gray},
+                              end_time=0.4, note=f"dp = {dp * 1e3:.3g} mm, coupling {model}, solid.scheme = gray2001 "
+                                                 f"(solid.cfl = 0.25); free end vs Antoci et al. 2007"))
+    # With three layers through the 5 mm gate the quadratic fit is determined; Gray's SPH gradient is too stiff at
+    # this gate's L/H = 16 (docs/validation/OPEN.md, sec. 2). The scene's scheme.
     for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm")):
         rungs.append(Rung("antoci_gate", f"pressure_quadratic_{label}", "antoci_gate",
                           {"numerics.spacing": dp, "coupling.model": "pressure",
-                           "solid.velocity_gradient": "quadratic"}, end_time=0.4,
-                          note=f"dp = {dp * 1e3:.3g} mm, coupling pressure, solid.velocity_gradient = quadratic"))
+                           "solid.scheme": "quadratic_plain_artificial_stress"}, end_time=0.4,
+                          note=f"dp = {dp * 1e3:.3g} mm, coupling pressure, "
+                               f"solid.scheme = quadratic_plain_artificial_stress"))
     # The scene keeps Gray's artificial stress (eps = 0.15, its runs above); the quadratic fit needs none, and at
     # nu = 0.49 it feeds a growing mode (docs/method.md): the same run without it.
     rungs.append(Rung("antoci_gate", "pressure_quadratic_eps0_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
-                       "solid.velocity_gradient": "quadratic", "solid.artificial_stress_epsilon": 0.0}, end_time=0.4,
-                      note="dp = 1.67 mm, coupling pressure, quadratic fit, no artificial stress"))
+                       "solid.scheme": "quadratic_plain"}, end_time=0.4,
+                      note="dp = 1.67 mm, coupling pressure, solid.scheme = quadratic_plain (no artificial stress)"))
     # Three layers through the gate sum z^2 = 2 dp^2 where the section has H^3 / 12 = 2.25 dp^2: the plain nodal sum
     # leaves the gate 11 % soft in bending; the strain-gradient nodal integration puts it back (docs/method.md).
     rungs.append(Rung("antoci_gate", "pressure_gradient_eps0_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
-                       "solid.velocity_gradient": "quadratic", "solid.artificial_stress_epsilon": 0.0,
-                       "solid.nodal_integration": "gradient"}, end_time=0.4,
-                      note="dp = 1.67 mm, coupling pressure, quadratic fit, strain-gradient nodal integration"))
+                       "solid.scheme": "quadratic_gradient"}, end_time=0.4,
+                      note="dp = 1.67 mm, coupling pressure, solid.scheme = quadratic_gradient (strain-gradient "
+                           "nodal integration, no artificial stress)"))
     for dp, label, extra in ((0.002, "dp2mm", {"geometry.gate_clamp_height": 0.004}), (0.001, "dp1mm", {})):
         for model in ("seed", "pressure"):
             rungs.append(Rung("elastic_gate", f"{model}_{label}", "elastic_gate",
                               {"numerics.spacing": dp, "coupling.model": model, **extra}, end_time=0.14,
                               snapshot_interval=0.02,
                               note=f"dp = {dp * 1e3:g} mm, coupling {model}; the paper's Figs. 6-8 (qualitative)"))
-    # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins Gray's
-    # gradient for its 2 mm runs, where the gate is 2 particles thick and the fit falls back to linear).
+    # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins gray2001
+    # for its 2 mm runs, where the gate is 2 particles thick and the fit falls back to linear). quadratic_plain
+    # brings its own solid.cfl, 0.25: gray2001's 0.5 suits Gray's gradient, not the fit.
     rungs.append(Rung("elastic_gate", "pressure_quadratic_dp1mm", "elastic_gate",
-                      {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.velocity_gradient": "quadratic",
-                       "solid.artificial_stress_epsilon": 0.0,
-                       "solid.cfl": 0.25},   # as it was validated: the scene's 0.5 suits Gray's gradient, not the fit
+                      {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.scheme": "quadratic_plain"},
                       end_time=0.14, snapshot_interval=0.02,
-                      note="dp = 1 mm, coupling pressure, quadratic-fit solid without artificial stress"))
+                      note="dp = 1 mm, coupling pressure, solid.scheme = quadratic_plain (quadratic-fit solid without "
+                           "artificial stress)"))
     return rungs
 
 

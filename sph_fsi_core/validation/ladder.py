@@ -14,6 +14,7 @@ import sys
 import time
 from pathlib import Path
 
+from . import DEFAULT_OUT_DIR
 from .cases import CASE_GROUPS, all_rungs, cantilever_end_time
 
 
@@ -87,7 +88,7 @@ def load_summaries(out_dir, rungs):
     return found
 
 
-def main(cases=(), quick=False, workers=1, out_dir="docs/validation", report_only=False):
+def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=False):
     cases = tuple(c for name in cases for c in CASE_GROUPS.get(name, (name,)))
     rungs = [r for r in all_rungs() if (not cases or r.case in cases) and (r.quick or not quick)]
     if not rungs:

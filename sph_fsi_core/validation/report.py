@@ -385,8 +385,8 @@ def write_report(out_dir, rungs, summaries):
     machine = next((s["machine"] for s in summaries.values()), {})
     lines = [
         "# Validation: error against run time", "",
-        "Made by `sph-fsi validate` (`make validate`); rebuild this page from the stored runs with "
-        "`sph-fsi validate --report-only`. Each row is one headless run; its full outputs (summary.json, "
+        "Made by `sph-fsi validate --out docs/validation` (`make validate ARGS=\"--out docs/validation\"`); "
+        "rebuild this page from the stored runs with `sph-fsi validate --report-only --out docs/validation`. Each row is one headless run; its full outputs (summary.json, "
         "timeseries.csv) are under `runs/CASE/RUN/`.", "",
         f"Machine: {machine.get('cpus')} CPUs, Python {machine.get('python')}, Numba {machine.get('numba')}, "
         f"NumPy {machine.get('numpy')}; report written {datetime.date.today().isoformat()}. Each run's Numba threads "

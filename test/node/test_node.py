@@ -467,6 +467,7 @@ def test_divergence_is_reported_and_reset_recovers(node, peer):
 
 
 def test_parameters_refused_applied_and_deferred(node, peer):
+    peer.call(peer.pause, SetBool.Request(data=True))   # frames of the old beam stop before its reset
     # refused, with a reason naming the parameter (and the allowed range)
     for bad in (-1.0, "abc", 0.0, True):
         result, dt = peer.set_param("solid.young_modulus", bad)
@@ -526,6 +527,30 @@ def test_parameters_refused_applied_and_deferred(node, peer):
     peer.wait_for("/sph_fsi/particles", lambda m: m.width == MOVING and seconds_from_stamp(m.header.stamp) == 0.0,
                   start=start, timeout=60.0)
 
+    # a solid scheme waits for the reset, which shows the detailed keys it expands to as parameters
+    result, _ = peer.set_param("solid.scheme", "gray2001")
+    assert result.successful and "next ~/reset" in result.reason, result.reason
+    assert peer.get_param("solid.velocity_gradient") == "quadratic"
+    start = peer.count("/sph_fsi/particles")
+    peer.call(peer.reset, Trigger.Request())
+    peer.wait_for("/sph_fsi/particles", start=start, timeout=60.0)   # the rebuild (on the simulation thread)
+    deadline = time.monotonic() + 10.0
+    while peer.get_param("solid.velocity_gradient") != "sph" and time.monotonic() < deadline:
+        time.sleep(0.05)    # the parameters follow the rebuild's first frame on the same thread
+    assert peer.get_param("solid.velocity_gradient") == "sph"
+    assert peer.get_param("solid.artificial_stress_epsilon") == 0.15 and peer.get_param("solid.cfl") == 0.5
+    assert peer.get_param("solid.young_modulus") == 2.0e6     # an explicitly set key stays
+    result, _ = peer.set_param("solid.scheme", "quadratic_gradient")
+    assert result.successful
+    start = peer.count("/sph_fsi/particles")
+    peer.call(peer.reset, Trigger.Request())
+    peer.wait_for("/sph_fsi/particles", start=start, timeout=60.0)
+    deadline = time.monotonic() + 10.0
+    while peer.get_param("solid.velocity_gradient") != "quadratic" and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert peer.get_param("solid.velocity_gradient") == "quadratic"
+    assert peer.get_param("solid.nodal_integration") == "gradient"
+
 
 def test_end_of_run_exits_with_status_0():
     """on_end exit: the node ends by itself at end_time, exit status 0."""
@@ -560,6 +585,7 @@ def test_unwritable_out_dir_exits_2_before_running(tmp_path):
     assert "finished" not in err, err
 
 
+@pytest.mark.slow
 def test_sigint_ten_times_then_sigterm():
     peer = Peer(SIGNAL_DOMAIN, name="sph_fsi_signal_peer")
     try:

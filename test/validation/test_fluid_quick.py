@@ -12,8 +12,13 @@ experiment to 1.5 % RMS, and its speed dZ/dT over T = 1.5..3 is within 5 % of th
 """
 import json
 
+import pytest
+
 from sph_fsi_core.validation.references import martin_moyce_front
 from sph_fsi_core.validation.ladder import main as validate
+
+
+pytestmark = pytest.mark.slow   # over ~10 s on one thread: left out of `make test-fast`
 
 
 def test_quick_fluid_cases_within_bounds(tmp_path):

@@ -7,6 +7,9 @@ from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 
 
+pytestmark = pytest.mark.slow   # over ~10 s on one thread: left out of `make test-fast`
+
+
 @pytest.mark.parametrize("model", ["pressure", "seed"])
 def test_elastic_gate_coarse(model):
     """The paper's gate at 2 mm, 6 layers across, to 0.03 s: the water on the +x side bends the gate towards -x by
@@ -22,7 +25,7 @@ def test_elastic_gate_coarse(model):
     peak = min(dx)
     if model == "pressure":
         assert -1.0e-2 < peak < -2.0e-4
-    else:   # the paper's push is far weaker (docs/validation/FINDINGS.md): bounded, never through the water side
+    else:   # the paper's push is far weaker (docs/method.md, coupling): bounded, never through the water side
         assert max(abs(x) for x in dx) < 1.0e-2
     assert all(abs(r["tip_dz"]) < 5.0e-3 for r in rows)
 
@@ -30,7 +33,7 @@ def test_elastic_gate_coarse(model):
 def test_antoci_gate_coarse():
     """Antoci's gate at 2.5 mm to 0.02 s: the free end moves downstream (+x) by millimetres (experiment: 0 at t = 0,
     12.9 mm at 0.044 s), and barely rises yet (experiment: under 1 mm until 0.04 s). Two layers through the gate
-    at this spacing: too few for the scene's quadratic-fit solid, so Gray's SPH gradient (FINDINGS.md)."""
+    at this spacing: too few for the scene's quadratic-fit solid, so Gray's SPH gradient (docs/validation/OPEN.md, sec. 2)."""
     rows = []
     spec = load_scene("antoci_gate", [("numerics.spacing", 0.0025), ("coupling.model", "pressure"),
                                       ("solid.velocity_gradient", "sph"),

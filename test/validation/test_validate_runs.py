@@ -28,3 +28,12 @@ def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch
     rungs = {r.key: r for r in validation.all_rungs()}
     assert validation.same_run(rungs["cantilever_length/L40"]) == validation.same_run(
         rungs["cantilever_ladder/H_over_dp_4"])
+
+
+def test_validate_and_stability_write_outside_the_source_tree_by_default():
+    """A user's `sph-fsi validate` or `stability` never overwrites the committed report: docs/ only with --out."""
+    from sph_fsi.cli import build_parser
+    parser = build_parser()
+    for command in ("validate", "stability"):
+        assert parser.parse_args([command]).out == "runs/validation"
+        assert parser.parse_args([command, "--out", "docs/validation"]).out == "docs/validation"

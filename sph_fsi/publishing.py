@@ -1,0 +1,99 @@
+"""The node's topics: their publishers (only those the scene has, with the chosen QoS) and the messages built from
+a simulation, stamped with simulated time. Called from the simulation thread only (sph_fsi.runner's `out`).
+
+~/particles (PointCloud2, moving particles of every phase), ~/walls (PointCloud2, fixed particles; reliable,
+transient-local, after every build), ~/tip_displacement (Vector3Stamped, a probe named 'tip'), ~/strain_energy
+(Float64, a solid), /clock and /diagnostics (always).
+"""
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import Vector3, Vector3Stamped
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import PointCloud2
+from std_msgs.msg import Float64, Header
+
+from .messages import stamp_from_seconds, structured_to_cloud, walls_to_cloud
+from .points import particle_points, topic_plan, wall_positions
+
+__all__ = ["Publishing", "TOPIC_TYPES", "LEVELS"]
+
+TOPIC_TYPES = {"particles": PointCloud2, "walls": PointCloud2, "tip_displacement": Vector3Stamped,
+               "strain_energy": Float64}
+LEVELS = {"ok": DiagnosticStatus.OK, "warn": DiagnosticStatus.WARN, "error": DiagnosticStatus.ERROR}
+
+
+class Publishing:
+    """The publishers of one node; `ok()` turns False once its context shuts down (publishing then stops
+    quietly)."""
+
+    def __init__(self, node):
+        self.node = node
+        self.pubs = {}
+        self.qos = None                         # the streamed topics' QoS name, once created
+        self.clock = node.create_publisher(Clock, "/clock", QoSProfile(depth=10))
+        self.diagnostics = node.create_publisher(DiagnosticArray, "/diagnostics", QoSProfile(depth=10))
+
+    def ok(self):
+        return self.node.context.ok()
+
+    def sync_topics(self, sim, qos):
+        """Publishers for the topics `sim` has (topic_plan), dropping the others; a new QoS recreates every
+        streamed topic (~/walls keeps its own)."""
+        want = topic_plan(sim)
+        if self.qos is not None and qos != self.qos:
+            for name in list(self.pubs):
+                if name != "walls":
+                    self.node.destroy_publisher(self.pubs.pop(name))
+        self.qos = qos
+        for name in list(self.pubs):
+            if name not in want:
+                self.node.destroy_publisher(self.pubs.pop(name))
+        stream_qos = qos_profile_sensor_data if qos == "sensor_data" else QoSProfile(depth=10)
+        latched = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        for name in sorted(want - set(self.pubs)):
+            self.pubs[name] = self.node.create_publisher(TOPIC_TYPES[name], f"~/{name}",
+                                                         latched if name == "walls" else stream_qos)
+
+    def publish_walls(self, sim, frame_id):
+        pub = self.pubs.get("walls")
+        if pub is None or not self.ok():
+            return
+        pub.publish(walls_to_cloud(wall_positions(sim), stamp_from_seconds(sim.time), frame_id))
+
+    def publish_frame(self, sim, frame_id):
+        """Particles, probes, energies and /clock at the simulated time; False if the node shut down."""
+        if not self.ok():
+            return False
+        header = Header(stamp=stamp_from_seconds(sim.time), frame_id=frame_id)
+        try:
+            pub = self.pubs.get("particles")
+            if pub is not None:
+                pub.publish(structured_to_cloud(particle_points(sim), header.stamp, header.frame_id))
+            pub = self.pubs.get("tip_displacement")
+            if pub is not None:
+                d = sim.probe_displacements()["tip"]
+                pub.publish(Vector3Stamped(header=header, vector=Vector3(x=float(d[0]), y=float(d[1]),
+                                                                         z=float(d[2]))))
+            pub = self.pubs.get("strain_energy")
+            if pub is not None:
+                pub.publish(Float64(data=float(sim.energies()["strain_energy"])))
+            self.clock.publish(Clock(clock=header.stamp))
+        except Exception:
+            if self.ok():
+                raise
+            return False   # shut down during the publish
+        return True
+
+    def publish_diagnostics(self, t, level, message, values, frame_id):
+        """One DiagnosticStatus 'sph_fsi' stamped `t`; level 'ok' | 'warn' | 'error'."""
+        if not self.ok():
+            return
+        status = DiagnosticStatus(level=LEVELS[level], name="sph_fsi", message=message, hardware_id="sph_fsi",
+                                  values=[KeyValue(key=k, value=v) for k, v in values.items()])
+        msg = DiagnosticArray(header=Header(stamp=stamp_from_seconds(t), frame_id=frame_id), status=[status])
+        try:
+            self.diagnostics.publish(msg)
+        except Exception:
+            if self.ok():
+                raise

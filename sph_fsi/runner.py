@@ -1,0 +1,507 @@
+"""The node's simulation, without ROS: a thread that runs a scene one publish period at a time, with pause,
+step, reset, end time, divergence, the out_dir summaries and the recorders. sph_fsi.node wires it to rclpy;
+tests drive it directly (test/node/test_runner.py).
+
+Threads: the simulation thread (`start()`) owns the Run (sph_fsi_core.run) and is the only one that steps,
+publishes and records. Other threads (the node's services and parameter callbacks) call `pause`, `request_step`,
+`request_reset`, `change` and `settings` updates; those take a short lock (`lock`), enqueue a command or set a
+flag, and return at once: they never wait for a step. The thread takes commands between outer steps.
+
+What it shows goes through `out`, an object with
+    ok() -> bool                                     may publish (False once the node shuts down)
+    sync_topics(sim, qos)                            the topics this scene has, with this QoS
+    publish_walls(sim, frame_id)
+    publish_frame(sim, frame_id) -> bool             particles, probes, energies, /clock (False: shut down)
+    publish_diagnostics(time, level, message, values, frame_id)   level 'ok' | 'warn' | 'error'
+    scene_changed(spec)                              after every reset: the rebuilt scene's keys and values
+    restore_parameters({key: value})                 a live value the simulation refused: the value kept
+    ended(code)                                      on_end 'exit' reached, a startup error or a failure
+and `log`, with info, warning and error (an rclpy logger).
+"""
+import math
+import os
+import threading
+import time
+import traceback
+from collections import deque
+
+from sph_fsi_core.run import Run, headline, make_writable_dir
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.schema import SceneError
+
+from .points import moving_particles
+
+__all__ = ["Runner", "numbered", "EXIT_BAD_INPUT", "EXIT_DIVERGED"]
+
+EXIT_BAD_INPUT = 2
+EXIT_DIVERGED = 3
+
+
+def numbered(path, n):
+    """The n-th file or directory of a path: the path itself, then <stem>_<n><suffix> after each reset."""
+    if n == 0:
+        return path
+    root, ext = os.path.splitext(path)
+    return f"{root}_{n}{ext}"
+
+
+def _steps(sim):
+    """Solid plus fluid steps taken so far (the diagnostics' steps/s)."""
+    return getattr(sim, "solid_steps", 0) + getattr(sim, "fluid_steps", 0)
+
+
+class Runner:
+    """spec: the scene to build first; settings: the node parameters' values (sph_fsi.parameters.NODE_PARAMS),
+    kept and updated here; namespace: the recordings' topic prefix."""
+
+    def __init__(self, spec, settings, out, log, namespace="/sph_fsi"):
+        self.out = out
+        self.log = log
+        self.namespace = namespace
+        self.exit_code = 0
+        self.lock = self._cv = threading.Condition()   # guards the state below up to the thread-only state
+        self.settings = dict(settings)          # node parameters in effect (those applied at reset: as built)
+        self.desired = spec                     # every accepted scene-key value, live and deferred
+        self._first_spec = spec
+        self._commands = deque()
+        self._paused = False
+        self._stopping = False
+        self._finished = False
+        self._diverged = None                   # Diverged exception while diverged
+        self._pending_keys = set()              # rebuild keys changed since the running simulation was built
+        self._pending_settings = {}             # node parameters (scene, qos, recording) for the next reset
+        self._last_error = ""
+        self._sim_time = 0.0
+
+        # simulation-thread-only state
+        self.run = None                         # the running sph_fsi_core.run.Run
+        self.sim = None
+        self._recordings = 0                    # recorders opened so far (numbers the files after a reset)
+        self._runs = 0                          # runs built so far (numbers out_dir after a reset)
+        self._out_dir = None                    # this run's out_dir, or None
+        self._summary_steps = 0                 # the run's outer steps when its summary was last written
+        self._last_diag_wall = 0.0
+        self._thread = threading.Thread(target=self._run, name="simulation", daemon=True)
+
+    # ---- called from other threads: answer at once ---------------------------------------------------------
+    def start(self):
+        self._thread.start()
+
+    def pause(self, flag):
+        """(was paused, simulated time)."""
+        with self._cv:
+            was = self._paused
+            self._paused = bool(flag)
+            self._cv.notify_all()
+            return was, self._sim_time
+
+    def request_step(self):
+        """(accepted, message): one publish period while paused."""
+        self._check_end_time()   # end_time may have been raised a moment ago, before the sim thread looked
+        with self._cv:
+            if self._diverged is not None:
+                return False, "the run diverged; call ~/reset"
+            if self._finished:
+                return False, "the run is at its end time; call ~/reset (or raise end_time)"
+            if not self._paused:
+                return False, "~/step works while paused; call ~/pause true first"
+            self._commands.append(("step",))
+            self._cv.notify_all()
+            return True, f"stepping one publish period from t = {self._sim_time:.6g} s"
+
+    def request_reset(self):
+        """Rebuild from the desired values at t = 0 (on the simulation thread); returns what it will apply."""
+        with self._cv:
+            self._commands.append(("reset",))
+            self._cv.notify_all()
+            return self.pending()
+
+    def pending(self):
+        """Keys accepted but waiting for the next reset, sorted."""
+        with self._cv:
+            return sorted(self._pending_keys | set(self._pending_settings))
+
+    def change(self, node_changes, scene_changes, desired, rebuild_keys):
+        """Accepted changes (sph_fsi.parameters.check_changes): live scene keys go to the simulation between
+        outer steps, keys in `rebuild_keys` and node parameters applied at reset wait for ~/reset, the other node
+        parameters apply at once. Returns (keys applied now, keys waiting for the reset)."""
+        from .parameters import AT_RESET
+        now, later = [], []
+        with self._cv:
+            self.desired = desired
+            live = {}
+            for key, value in scene_changes.items():
+                if key in rebuild_keys:
+                    self._pending_keys.add(key)
+                    later.append(key)
+                else:
+                    live[key] = value
+                    now.append(key)
+            if live:
+                self._commands.append(("apply", live))
+            for key, value in node_changes.items():
+                if key in AT_RESET:
+                    self._pending_settings[key] = value
+                    later.append(key)
+                else:
+                    self.settings[key] = value
+                    now.append(key)
+            self._cv.notify_all()
+        return now, later
+
+    def stop(self):
+        """Stop the simulation thread (after its current outer step), join it, close the recordings and write
+        the run's summary ('interrupted')."""
+        with self._cv:
+            self._stopping = True
+            self._cv.notify_all()
+        if self._thread.is_alive():
+            self._thread.join()
+        self._close_recorders("interrupted")
+        self._write_summary("interrupted")
+
+    def status(self):
+        """(level 'ok' | 'warn' | 'error', 'running' | 'paused' | 'finished' | 'diverged')."""
+        with self._cv:
+            if self._diverged is not None:
+                return "error", "diverged"
+            if self._finished:
+                return "ok", "finished"
+            if self._paused:
+                return "ok", "paused"
+            return ("warn" if self._last_error else "ok"), "running"
+
+    # ---- the simulation thread ---------------------------------------------------------------------------
+    def _run(self):
+        try:
+            self._loop()
+        except Exception as exc:   # a bug, not a divergence: report it and end the process non-zero
+            self.log.error(f"simulation thread failed: {type(exc).__name__}: {exc}")
+            traceback.print_exc()
+            self._end(1)
+
+    def _end(self, code):
+        self.exit_code = code
+        self.out.ended(code)
+
+    def _loop(self):
+        try:
+            self._build(self._first_spec)
+        except SceneError as exc:
+            self.log.error(str(exc))
+            self._end(EXIT_BAD_INPUT)
+            return
+        self._last_diag_wall = 0.0
+        while True:
+            with self._cv:
+                if self._stopping:
+                    return
+                cmds = list(self._commands)
+                self._commands.clear()
+            for cmd in cmds:
+                self._handle(cmd)
+            if self._stopping:
+                return
+            self._check_end_time()
+            if self._can_run():
+                wait = self._realtime_wait()
+                if wait > 0.0:
+                    self._wait(wait)
+                else:
+                    self.advance(interruptible=True)
+                continue
+            if time.monotonic() - self._last_diag_wall >= 1.0:
+                self._publish_diagnostics()
+            self._wait(1.0)
+
+    def _wait(self, seconds):
+        with self._cv:
+            if not self._commands and not self._stopping and (seconds > 0.0):
+                self._cv.wait(min(seconds, 1.0))
+
+    def _can_run(self):
+        with self._cv:
+            return not (self._paused or self._finished or self._diverged is not None or self._stopping)
+
+    def _sync_end(self):
+        """The run's end: the end_time parameter, or (0) the scene's scene.end_time."""
+        run = self.run
+        run.end_time = self.settings["end_time"] or None
+        return run.end
+
+    def _check_end_time(self):
+        """end_time (or scene.end_time) raised past a finished run's time: it runs on."""
+        if self.run is None:
+            return
+        with self._cv:
+            self._sync_end()
+            again = self._finished and not self.run.at_end
+            if again:
+                self._finished = False
+        if again:
+            self.log.info(f"end time raised to {self.run.end:g} s: running on")
+            self._publish_diagnostics()
+
+    def _handle(self, cmd):
+        kind = cmd[0]
+        if kind == "apply":
+            try:
+                self.sim.apply(cmd[1])
+            except SceneError as exc:   # a live value the running state cannot take (e.g. an unstable dt)
+                effective = {k: self.sim.spec.values[k] for k in cmd[1]}
+                with self._cv:
+                    self.desired = self.desired.with_overrides(effective)
+                    self._last_error = str(exc)
+                self.out.restore_parameters(effective)
+                self.log.error(f"{exc}; kept {effective}")
+                self._publish_diagnostics()
+        elif kind == "reset":
+            self._reset()
+        elif kind == "step":
+            with self._cv:
+                ok = self._paused and not self._finished and self._diverged is None
+            if ok:
+                self.advance(interruptible=False)
+
+    def _reset(self):
+        with self._cv:
+            scene = self._pending_settings.pop("scene", None)
+            desired = self.desired
+        old_run, old_sim = self.run, self.sim
+        try:
+            if scene is not None:
+                desired = load_scene(scene or None)
+                self.settings["scene"] = scene
+            self._build(desired)
+        except SceneError as exc:
+            with self._cv:
+                self._last_error = f"reset refused: {exc}"
+            self.log.error(f"reset refused: {exc}")
+            self.run, self.sim = old_run, old_sim
+            self._publish_diagnostics()
+            return
+        with self._cv:
+            self._pending_keys.clear()
+            self.desired = desired
+            self._last_error = ""
+        # every reset: the node's parameters show the rebuilt scene's values (a new scene's keys, or the detailed
+        # keys a changed solid.scheme expanded to)
+        self.out.scene_changed(desired)
+
+    def _build(self, spec):
+        run = Run(spec)
+        self._close_recorders("reset")
+        self._write_summary("reset")
+        self.run, self.sim = run, run.sim
+        self._outer_dt = run.sim.outer_step_duration()
+        with self._cv:
+            self._finished = False
+            self._diverged = None
+            self._sim_time = 0.0
+            qos = self._pending_settings.pop("qos", None)
+        if qos is not None:
+            self.settings["qos"] = qos
+        self._rate = 0.0
+        self._rate_mark = None
+        self._anchor = None
+        self.out.sync_topics(run.sim, self.settings["qos"])
+        self.out.publish_walls(run.sim, self.settings["frame_id"])
+        self._publish_frame()
+        self._open_recorder()
+        self._out_dir = numbered(self.settings["out_dir"], self._runs) if self.settings["out_dir"] else None
+        if self._out_dir:
+            try:
+                make_writable_dir(self._out_dir)
+            except OSError as exc:
+                why = f"out_dir {self._out_dir!r}: not writable ({exc.strerror})"
+                if self._runs == 0:
+                    raise SceneError(f"{why}; allowed: a writable directory") from None
+                self.log.error(f"{why}; this run's summary goes to the log only")
+                self._out_dir = None
+        self._runs += 1
+        self._summary_steps = 0
+
+    def _realtime_wait(self):
+        rtf = self.settings["realtime_factor"]
+        now = time.monotonic()
+        if rtf <= 0.0:
+            self._anchor = None
+            return 0.0
+        if self._anchor is None or self._anchor[2] != rtf:
+            self._anchor = (now, self.sim.time, rtf)
+            return 0.0
+        target = self._anchor[0] + (self.sim.time - self._anchor[1]) / rtf
+        if now > target + 0.5:   # fell behind (slow steps, or a pause): do not catch up in a burst
+            self._anchor = (now, self.sim.time, rtf)
+            return 0.0
+        return max(0.0, target - now)
+
+    def _interrupted(self):
+        with self._cv:
+            return self._stopping or self._paused or any(c[0] == "reset" for c in self._commands)
+
+    def _take_applies(self):
+        with self._cv:
+            applies = [c for c in self._commands if c[0] == "apply"]
+            for c in applies:
+                self._commands.remove(c)
+        for c in applies:
+            self._handle(c)
+
+    def advance(self, interruptible):
+        """One publish period (whole outer steps), or less at the end time or on an interruption; then publish.
+        Simulation thread only."""
+        run, sim = self.run, self.sim
+        n = max(1, math.ceil(self.settings["publish_period"] / self._outer_dt - 1e-9))
+        self._sync_end()
+        if self._rate_mark is None:
+            self._rate_mark = (time.monotonic(), _steps(sim))
+        done = 0
+        while done < n and not run.at_end:
+            if interruptible and self._interrupted():
+                break
+            if not run.advance():
+                self._on_diverged()
+                return
+            done += 1
+            self._take_applies()
+        now = time.monotonic()
+        if now > self._rate_mark[0]:
+            self._rate = (_steps(sim) - self._rate_mark[1]) / (now - self._rate_mark[0])
+        self._rate_mark = (now, _steps(sim))
+        reached_end = run.at_end
+        with self._cv:
+            self._sim_time = sim.time
+            if reached_end:
+                self._finished = True
+            if self._paused or not interruptible:
+                self._rate_mark = None
+        if done:
+            self._publish_frame()
+        elif reached_end:
+            self._publish_diagnostics()
+        else:
+            return   # interrupted before the first step: nothing new to publish
+        if reached_end:
+            self.log.info(f"finished at t = {sim.time:.6g} s")
+            self._write_summary("finished")
+            if self.settings["on_end"] == "exit":
+                self._end(0)
+
+    def _on_diverged(self):
+        exc = self.run.diverged
+        with self._cv:
+            self._diverged = exc
+            self._sim_time = self.sim.time
+        self.log.error(str(exc))
+        self._write_summary("diverged")
+        self._publish_diagnostics()
+        if self.settings["on_end"] == "exit":
+            self._end(EXIT_DIVERGED)
+
+    # ---- the run's time series and summary (the last one written by stop()) ------------------------------
+    def _write_summary(self, status):
+        """Summary (error against the reference, wall time) to the log and, with out_dir, to disk; once per
+        state: not again while the run has not stepped since (a reset or stop after the end or a divergence),
+        nor for a run that never stepped. A divergence always writes."""
+        run = self.run
+        if run is None or (status != "diverged" and run.sim.outer_steps == self._summary_steps):
+            return
+        self._summary_steps = run.sim.outer_steps
+        self._sync_end()
+        summary = run.finish(status)
+        where = ""
+        if self._out_dir:
+            try:
+                run.log.write(self._out_dir, summary)
+                where = f" (written to {self._out_dir}/)"
+            except OSError as exc:
+                where = f" (not written to {self._out_dir}/: {exc})"
+                with self._cv:
+                    self._last_error = f"out_dir: {exc}"
+        line = f"run {headline(summary)}{where}"
+        if status == "diverged":   # rclpy: one severity per call site
+            self.log.error(line)
+        else:
+            self.log.info(line)
+
+    # ---- recordings (closed by stop() after the thread has ended) -----------------------------------------
+    def _open_recorder(self):
+        with self._cv:
+            for key in [k for k in self._pending_settings if k != "scene"]:
+                self.settings[key] = self._pending_settings.pop(key)
+        st = self.settings
+        if not (st["mcap_path"] or st["rrd_path"] or st["rerun_connect"]):
+            return
+        n = self._recordings
+        paths = {key: numbered(st[key], n) if st[key] else None for key in ("mcap_path", "rrd_path")}
+        from .recording import Recorder
+        try:
+            rec = Recorder(self.sim, mcap_path=paths["mcap_path"], mcap_compression=st["mcap_compression"],
+                           rrd_path=paths["rrd_path"], rerun_connect=st["rerun_connect"] or None,
+                           interval=st["record_interval"], frame_id=st["frame_id"], namespace=self.namespace,
+                           log=self.log.warning)
+        except (OSError, ValueError) as exc:
+            if n == 0:
+                raise SceneError(f"recording: {exc}") from None
+            self.log.error(f"recording not restarted: {exc}")
+            with self._cv:
+                self._last_error = f"recording not restarted: {exc}"
+            return
+        self._recordings += 1
+        self.run.add_recorder(rec)
+        self.log.info("recording to " + ", ".join(p for p in [paths["mcap_path"], paths["rrd_path"],
+                                                              st["rerun_connect"]] if p))
+
+    def _close_recorders(self, reason):
+        if self.run is None or not self.run.recorders:
+            return
+        with self._cv:
+            status = "diverged" if self._diverged is not None else "finished" if self._finished else reason
+        for rec, stats in self.run.close(status):
+            self.log.info(f"recording closed ({status}): {rec.frames} frames"
+                          + (f"; the simulation waited {stats['waits']} times for the recorder"
+                             if stats["waits"] else ""))
+
+    # ---- publishing ----------------------------------------------------------------------------------------
+    def _publish_frame(self):
+        """Particles, probes and energies at the current simulated time, then /clock and /diagnostics."""
+        if self.out.ok() and self.out.publish_frame(self.sim, self.settings["frame_id"]):
+            self._publish_diagnostics()
+
+    def diagnostics(self):
+        """(level, message, {key: str}) of the running simulation, for /diagnostics."""
+        sim = self.sim
+        level, message = self.status()
+        running = message == "running"
+        values = {"scene": sim.spec.name, "sim_time": f"{sim.time:.9g}", "end_time": f"{self._sync_end():.9g}",
+                  "steps_per_second": f"{self._rate if running else 0.0:.6g}", "particles": str(sim.particle_count),
+                  "moving_particles": str(sum(len(p[1]) for p in moving_particles(sim))),
+                  "solid_steps": str(getattr(sim, "solid_steps", 0)),
+                  "solid_dt": f"{getattr(sim, 'last_solid_dt', 0.0):.6g}"}
+        if getattr(sim, "fluid", None) is not None:   # the density correction's last step
+            values.update(iterations=f"{sim.last_density_iterations:d}",
+                          density_error=f"{sim.last_density_error:.6g}", fluid_steps=str(sim.fluid_steps),
+                          fluid_dt=f"{sim.last_fluid_dt:.6g}", capped_steps=str(sim.fluid_capped_steps))
+        pending = self.pending()
+        with self._cv:
+            diverged = self._diverged
+            last_error = self._last_error
+        if pending:
+            values["pending_reset"] = ", ".join(pending)
+        if last_error:
+            values["last_error"] = last_error
+        if sim.warnings:
+            values["warning"] = sim.warnings[-1]
+        if diverged is not None:
+            values.update({"check": diverged.check, "time": f"{diverged.time:.9g}", "detail": diverged.detail,
+                           "particles_involved": ", ".join(str(i) for i in diverged.particles)})
+            values["sim_time"] = f"{diverged.time:.9g}"
+        return level, message, values
+
+    def _publish_diagnostics(self):
+        self._last_diag_wall = time.monotonic()
+        if not self.out.ok() or self.sim is None:
+            return
+        level, message, values = self.diagnostics()
+        self.out.publish_diagnostics(self.sim.time, level, message, values, self.settings["frame_id"])

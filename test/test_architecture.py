@@ -1,0 +1,136 @@
+"""The package's shape, checked statically from the sources: the layering that the folders promise holds.
+
+- no import cycle between the modules of sph_fsi_core (imports inside functions count too);
+- no module imports another module's private (underscore) name;
+- the physics packages (numerics, solid, fluid) and coupling import nothing above them: not the scenes, the time
+  loop, the run loop or the validation code;
+- sph_fsi_core never imports sph_fsi (the node, the CLI, the recorders only read the core's state).
+
+The last test runs the checks on a made-up package with each fault, so a check that can no longer fail is noticed.
+"""
+import ast
+import textwrap
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+PHYSICS = ("numerics", "solid", "fluid", "coupling")
+ABOVE_PHYSICS = ("scenes", "simulation", "run", "validation", "scene")
+
+
+def modules(root, package):
+    """{dotted module name: path} of every module under root/package."""
+    out = {}
+    for path in (root / package).rglob("*.py"):
+        parts = path.relative_to(root).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = path
+    return out
+
+
+def imports(name, path, known):
+    """[(imported module, [imported names])] of one module, relative imports resolved, names that are modules
+    resolved to those modules."""
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[:len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            names = []
+            for alias in node.names:
+                sub = f"{target}.{alias.name}"
+                if sub in known:
+                    found.append((sub, []))
+                else:
+                    names.append(alias.name)
+            if names:
+                found.append((target, names))
+        elif isinstance(node, ast.Import):
+            found += [(alias.name, []) for alias in node.names]
+    return found
+
+
+def graph(root, package):
+    known = modules(root, package)
+    return known, {name: imports(name, path, known) for name, path in known.items()}
+
+
+def cycles(known, edges):
+    """Modules that can reach themselves through imports (a package's __init__ importing its own modules does not
+    count: that is how a package exports, not a dependency)."""
+    deps = {m: {t for t, _ in edges[m] if t in known and not t.startswith(m + ".")} for m in known}
+    bad = []
+    for start in sorted(known):
+        seen, stack = set(), list(deps[start])
+        while stack:
+            m = stack.pop()
+            if m == start:
+                bad.append(start)
+                break
+            if m not in seen:
+                seen.add(m)
+                stack += deps[m]
+    return bad
+
+
+def private_imports(known, edges):
+    return [f"{m} imports {t}.{n}" for m in sorted(known) for t, names in edges[m] for n in names
+            if n.startswith("_") and not n.startswith("__") and t in known]
+
+
+def layer_violations(known, edges, core):
+    bad = []
+    for m in sorted(known):
+        parts = m.split(".")
+        if len(parts) > 1 and parts[1] in PHYSICS:
+            for t, _ in edges[m]:
+                tp = t.split(".")
+                if tp[0] == core and len(tp) > 1 and tp[1] in ABOVE_PHYSICS:
+                    bad.append(f"{m} imports {t}")
+        for t, _ in edges[m]:
+            if t.split(".")[0] == "sph_fsi":
+                bad.append(f"{m} imports {t}")
+    return bad
+
+
+def test_core_has_no_import_cycle():
+    known, edges = graph(REPO, "sph_fsi_core")
+    assert len(known) > 30
+    assert cycles(known, edges) == []
+
+
+def test_no_module_imports_a_private_name():
+    for package in ("sph_fsi_core", "sph_fsi"):
+        known, edges = graph(REPO, package)
+        assert private_imports(known, edges) == [], package
+
+
+def test_physics_does_not_import_what_is_built_on_it():
+    known, edges = graph(REPO, "sph_fsi_core")
+    assert any(m.startswith("sph_fsi_core.solid.") for m in known)
+    assert layer_violations(known, edges, "sph_fsi_core") == []
+
+
+def test_the_checks_catch_each_fault(tmp_path):
+    files = {
+        "bad/__init__.py": "",
+        "bad/a.py": "from .b import helper\n",
+        "bad/b.py": "def f():\n    from .a import x\nfrom .c import _secret\n",
+        "bad/c.py": "_secret = 1\n",
+        "bad/solid/__init__.py": "",
+        "bad/solid/stepper.py": "from ..simulation import Simulation\nimport sph_fsi.node\n",
+        "bad/simulation.py": "",
+    }
+    for rel, text in files.items():
+        path = tmp_path / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(textwrap.dedent(text))
+    known, edges = graph(tmp_path, "bad")
+    assert cycles(known, edges) == ["bad.a", "bad.b"]
+    assert private_imports(known, edges) == ["bad.b imports bad.c._secret"]
+    assert layer_violations(known, edges, "bad") == ["bad.solid.stepper imports bad.simulation",
+                                                     "bad.solid.stepper imports sph_fsi.node"]

@@ -1,0 +1,181 @@
+"""The node's simulation thread without ROS (sph_fsi.runner.Runner): pause, step, reset, end time, out_dir
+summaries, and its time series against run_scene's (one run loop: sph_fsi_core.run.Run), to the bit.
+
+The runner's outputs go to a fake that keeps what would have been published. A small cantilever (12 x 3 x 4 mm
+at 1 mm, output.timeseries_interval 0.25 ms) with a publish period of 1 ms (4 outer steps).
+"""
+import json
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from sph_fsi.parameters import node_defaults
+from sph_fsi.runner import Runner, numbered
+from sph_fsi_core.run import END_TOLERANCE, Run, run_scene
+from sph_fsi_core.scene import load_scene
+
+SMALL = [("geometry.length", 0.012), ("geometry.width", 0.003), ("geometry.clamp_margin", 2)]
+PERIOD = 0.001
+OUTER = 2.5e-4
+
+
+class FakeOut:
+    """What the node would publish, as plain values."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.frames = []          # simulated times of published frames
+        self.walls = []
+        self.diagnostics = []     # (level, message, values)
+        self.ended_with = []
+        self.scenes = []
+        self.restored = []
+
+    def ok(self):
+        return True
+
+    def sync_topics(self, sim, qos):
+        self.qos = qos
+
+    def publish_walls(self, sim, frame_id):
+        self.walls.append(sim.time)
+
+    def publish_frame(self, sim, frame_id):
+        with self.lock:
+            self.frames.append(sim.time)
+        return True
+
+    def publish_diagnostics(self, t, level, message, values, frame_id):
+        with self.lock:
+            self.diagnostics.append((level, message, values))
+
+    def scene_changed(self, spec):
+        self.scenes.append(spec.name)
+
+    def restore_parameters(self, values):
+        self.restored.append(values)
+
+    def ended(self, code):
+        self.ended_with.append(code)
+
+
+class Log:
+    def __init__(self):
+        self.lines = []
+
+    def info(self, msg):
+        self.lines.append(("info", msg))
+
+    def warning(self, msg):
+        self.lines.append(("warning", msg))
+
+    def error(self, msg):
+        self.lines.append(("error", msg))
+
+
+def wait_until(predicate, timeout=120.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return
+        time.sleep(0.01)
+    raise AssertionError("timed out")
+
+
+def accumulated(n, dt=OUTER):
+    """sim.time after n outer steps: the same float additions as Simulation.step."""
+    t = 0.0
+    for _ in range(n):
+        t += dt
+    return t
+
+
+@pytest.fixture
+def runner(tmp_path):
+    settings = dict(node_defaults(), publish_period=PERIOD, out_dir=str(tmp_path / "run"))
+    out, log = FakeOut(), Log()
+    r = Runner(load_scene("cantilever", SMALL), settings, out, log)
+    r.out_log = log
+    r.pause(True)
+    r.start()
+    wait_until(lambda: len(out.frames) == 1)   # the t = 0 frame of the first build
+    yield r
+    r.stop()
+
+
+def test_paused_step_reset_and_numbered_out_dir(runner, tmp_path):
+    out = runner.out
+    time.sleep(0.5)
+    assert runner.sim.time == 0.0 and out.frames == [0.0]          # paused: no step
+    assert runner.status() == ("ok", "paused")
+    assert runner.request_step()[0]
+    wait_until(lambda: len(out.frames) == 2)
+    assert out.frames[1] == accumulated(4) and runner.sim.outer_steps == 4   # one publish period exactly
+    time.sleep(0.3)
+    assert len(out.frames) == 2 and runner.sim.time == accumulated(4)        # and no more
+    assert not (tmp_path / "run" / "summary.json").exists()
+
+    runner.request_reset()
+    wait_until(lambda: len(out.frames) == 3)
+    assert out.frames[2] == 0.0 and runner.sim.time == 0.0 and runner.status()[1] == "paused"
+    first = json.loads((tmp_path / "run" / "summary.json").read_text())   # the reset run's, cut short
+    assert first["status"] == "reset" and first["simulated_time_s"] == accumulated(4)
+    assert first["outer_steps"] == 4 and "error" not in first
+
+    # the next run goes to <out_dir>_1; resumed, it runs to end_time and is judged
+    runner.change({"end_time": 0.003}, {}, runner.desired, set())
+    runner.pause(False)
+    wait_until(lambda: (tmp_path / "run_1" / "summary.json").exists())   # written after the last frame
+    assert runner.status()[1] == "finished"
+    assert runner.sim.time == accumulated(12) and out.frames[-3:] == [accumulated(4), accumulated(8),
+                                                                      accumulated(12)]
+    second = json.loads((tmp_path / "run_1" / "summary.json").read_text())
+    assert second["status"] == "finished" and second["outer_steps"] == 12 and second["end_time_s"] == 0.003
+    assert ("info", "finished at t = 0.003 s") in runner.out_log.lines
+    assert not runner.request_step()[0]   # at its end time
+
+
+def test_runner_time_series_equals_run_scenes_to_the_bit(runner, tmp_path):
+    """One loop: the node's runner and run_scene (the CLI) give the same time series and summary numbers."""
+    end = 0.005
+    runner.change({"end_time": end}, {}, runner.desired, set())
+    runner.pause(False)
+    wait_until(lambda: (tmp_path / "run" / "summary.json").exists())
+    assert runner.status()[1] == "finished"
+    node_csv = (tmp_path / "run" / "timeseries.csv").read_bytes()
+    node_summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+
+    spec = load_scene("cantilever", SMALL + [("scene.end_time", end), ("output.snapshot_interval", 0.0)])
+    cli = run_scene(spec, tmp_path / "cli", progress=False)
+    assert (tmp_path / "cli" / "timeseries.csv").read_bytes() == node_csv
+    assert len(node_csv.splitlines()) == 1 + 1 + round(end / OUTER)   # header, t = 0, 20 outer steps
+    for key in ("simulated_time_s", "outer_steps", "solid_steps", "solid_dt_s", "particle_steps", "status"):
+        assert cli[key] == node_summary[key], key
+    for key in [k for k in cli if k.startswith(("frequency", "check_", "error", "peak"))]:
+        assert cli[key] == node_summary[key], key
+
+
+def test_run_end_rule_and_numbered_paths():
+    run = Run(load_scene("cantilever", SMALL), end_time=accumulated(3))
+    steps = 0
+    while not run.at_end:
+        assert run.advance()
+        steps += 1
+    assert steps == 3 and run.sim.time == accumulated(3) and len(run.log.rows) == 4
+    run.end_time = accumulated(3) + 2 * END_TOLERANCE   # past the tolerance: one more outer step
+    assert not run.at_end
+    run.end_time = accumulated(3) + 0.5 * END_TOLERANCE
+    assert run.at_end
+    summary = run.finish("finished")
+    assert summary["status"] == "finished" and summary["stepping_time_s"] > 0
+    assert numbered("runs/x.mcap", 0) == "runs/x.mcap" and numbered("runs/x.mcap", 2) == "runs/x_2.mcap"
+    assert numbered("runs/out", 1) == "runs/out_1"
+
+
+def test_runner_imports_without_ros():
+    from test_core_is_ros_free import import_without_ros
+    repo = Path(__file__).resolve().parents[1]
+    result = import_without_ros(repo, "sph_fsi_core", "sph_fsi.runner", "sph_fsi.parameters", "sph_fsi.ament")
+    assert result.returncode == 0, result.stdout + result.stderr
