@@ -54,6 +54,10 @@ class Simulation:
         self.walls = built.walls
         self.domain_lo, self.domain_hi = built.domain_lo, built.domain_hi
         self.probes = built.probes
+        # a prescribed load on the solid and the damping that settles it to static (scenes/clamped_plate.py);
+        # None and 0 in every other scene, which then cost nothing
+        self.solid_load, self.load_ramp_time = built.solid_load, built.load_ramp_time
+        self.damping_rate = built.damping_rate
         self.period = built.period
         self.spacing = v["numerics.spacing"]
         self.h = v["numerics.smoothing_ratio"] * self.spacing
@@ -336,14 +340,33 @@ class Simulation:
             dt_max = self._solid_dt()
             n = max(1, math.ceil(duration / dt_max * (1.0 - 1e-12)))
             dt = duration / n
-            self._advance_solid(n, dt)
+            self._advance_solid(n, dt, self._prescribed_acceleration(self.time + 0.5 * duration))
             self.last_solid_dt, self.last_substeps = dt, n
             self.solid_steps += n
+            if self.damping_rate > 0.0:
+                self._damp_solid(duration)
         if self.fluid is not None:
             self._advance_fluid(duration)
         self.time += duration
         self.outer_steps += 1
         self.watchdog.check()
+
+    def _prescribed_acceleration(self, t):
+        """The scene's prescribed load on the solid at time t, as an acceleration per particle, ramped in as
+        (1 - cos(pi t / T)) / 2 over the ramp time T; none (_NO_EXTERNAL) in scenes without one. Held over an
+        outer step."""
+        if self.solid_load is None:
+            return _NO_EXTERNAL
+        ramp = 1.0
+        if t < self.load_ramp_time:
+            ramp = 0.5 * (1.0 - math.cos(math.pi * t / self.load_ramp_time))
+        return ramp * self.solid_load / self.solid.mass[:, None]
+
+    def _damp_solid(self, duration):
+        """Mass-proportional damping dv/dt = -c v over an outer step, taken exactly (v *= exp(-c duration)) between
+        outer steps: a relaxation that settles a statically loaded solid; its static state does not depend on c.
+        Scaling every velocity keeps a mirrored clamp's ghosts the odd image of the body."""
+        self.solid.vel *= math.exp(-self.damping_rate * duration)
 
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
         wk, state = self.solid_work, SolidArrays.of(self.solid)

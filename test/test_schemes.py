@@ -27,7 +27,7 @@ DOCUMENTED = {
 }
 # the scheme each built-in scene with a solid was validated with
 SCENE_SCHEMES = {"cantilever": "quadratic_gradient", "elastic_gate": "gray2001",
-                 "antoci_gate": "quadratic_plain_artificial_stress"}
+                 "antoci_gate": "quadratic_plain_artificial_stress", "clamped_plate": "quadratic_gradient"}
 SMALL_BEAM = [("geometry.length", 0.004)]
 
 

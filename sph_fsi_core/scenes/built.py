@@ -18,6 +18,11 @@ class Built:
     # solid.clamp = mirrored: for each solid particle, the moving particle at its mirror image across the clamp
     # face (-1: none, and for moving particles); None if the scene has no plane clamp face
     clamp_mirror: np.ndarray | None = None
+    # a prescribed load on the solid (scenes/clamped_plate.py): force per particle at full load (N, (N, 3)), ramped
+    # in over load_ramp_time (s); damping_rate (1/s) a mass-proportional damping that settles a static case
+    solid_load: np.ndarray | None = None
+    load_ramp_time: float = 0.0
+    damping_rate: float = 0.0
 
 
 def clamp_mirror_across(pos, movable, axis, face, spacing):

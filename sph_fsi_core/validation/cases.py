@@ -146,12 +146,35 @@ def _gate_rungs():
     return rungs
 
 
+# The solid's static answer under a prescribed load (scenes/clamped_plate.py: the hydrostatic-plate benchmark's
+# plate with the water's exact pressure), judged against plane-strain FE; every scheme on a resolution ladder.
+SOLID_STATIC_SCHEMES = ("quadratic_gradient", "quadratic_plain", "gray2001")
+SOLID_STATIC_LAYERS = (4, 6, 8, 10)
+
+
+def _solid_static_rungs():
+    """solid_static: 4 / 6 / 8 / 10 particles through the plate for each scheme with the fixed clamp, and the
+    default scheme with the mirrored clamp (whose face is where the FE clamp is)."""
+    rungs = []
+    thickness = 0.05
+    variants = [(scheme, {"solid.scheme": scheme}) for scheme in SOLID_STATIC_SCHEMES]
+    variants.append(("quadratic_gradient_mirrored", {"solid.scheme": "quadratic_gradient", "solid.clamp": "mirrored"}))
+    for name, overrides in variants:
+        for layers in SOLID_STATIC_LAYERS:
+            dp = thickness / layers
+            rungs.append(Rung("solid_static", f"{name}_t_over_dp_{layers}", "clamped_plate",
+                              {"numerics.spacing": dp, **overrides}, end_time=0.02,
+                              note=f"{layers} particles through the plate, " + ", ".join(
+                                  f"{k} = {v}" for k, v in overrides.items())))
+    return rungs
+
+
 CANTILEVER_CASES = ("cantilever", "cantilever_ladder", "cantilever_length", "cantilever_plain",
                     "cantilever_plain_ladder", "cantilever_plain_length", "cantilever_paper_scheme")
 
 
 def all_rungs():
-    return _cantilever_rungs() + _fluid_rungs() + _gate_rungs()
+    return _cantilever_rungs() + _solid_static_rungs() + _fluid_rungs() + _gate_rungs()
 
 
 # Names that select several cases at once.

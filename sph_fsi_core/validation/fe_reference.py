@@ -1,4 +1,5 @@
-"""3D linear-elasticity reference frequencies of a clamped-free cantilever (optional: scikit-fem + scipy).
+"""Finite-element references (optional: scikit-fem + scipy): the 3D frequencies of a clamped-free cantilever, and
+the static deflection of a plane-strain strip clamped at both ends (the hydrostatic-plate benchmark).
 
 This is how reference_data/cantilever_frequencies.csv's `fe3d_*` columns are computed: a beam L x W x H
 (x along the length, y the width, z the thickness = vertical), clamped on its whole x = 0 face, meshed with
@@ -195,3 +196,76 @@ def extrapolated_frequency(sizes, freqs):
     p = 0.5 * (lo + hi)
     c = d12 / (s1 ** p - s2 ** p)
     return f1 - c * s1 ** p, p
+
+
+def clamped_plate_beam_deflection(span, thickness, young_modulus, poisson_ratio, load, shear=True):
+    """Mid-span deflection (m, positive along the load) of a plane-strain strip clamped at both ends under a
+    uniform load `load` (Pa, force per area of plate): w = q L^4 / (384 D) with D = E t^3 / (12 (1 - nu^2))
+    (Euler-Bernoulli), plus the shear deflection q L^2 / (8 kappa G t) with kappa = 5/6 when `shear`
+    (Timoshenko). The beam values that ../shared/reference/hydrostatic_plate_fourey2017.csv quotes."""
+    rigidity = young_modulus * thickness ** 3 / (12.0 * (1.0 - poisson_ratio ** 2))
+    w = load * span ** 4 / (384.0 * rigidity)
+    if shear:
+        w += load * span ** 2 / (8.0 * (5.0 / 6.0) * young_modulus / (2.0 * (1.0 + poisson_ratio)) * thickness)
+    return w
+
+
+def clamped_plate_fe_deflection(span, thickness, young_modulus, poisson_ratio, top_pressure, body_force_z=0.0,
+                                element_size=None):
+    """Static plane-strain deflection of a strip [0, span] x [0, thickness] (x along the span, z up) clamped on
+    both end faces (u = 0 on x = 0 and x = span), under a pressure `top_pressure` (Pa, pushing down; a number or
+    a function of x) on its top face and a body force `body_force_z` (N/m^3, e.g. -rho_s g) throughout.
+
+    Small-strain isotropic elasticity in plane strain (the 3D Lame constants on the x-z plane: a periodic slab
+    across y), biquadratic (9-node) quadrilaterals, round(extent / element_size) per direction (default:
+    thickness / 8), 3 x 3 Gauss points, a sparse direct solve. Returns a dict: midspan_deflection_m (u_z at
+    mid-span, mid-thickness; negative downwards), top_midspan_deflection_m, bottom_midspan_deflection_m, the
+    vertical reaction at the clamps (N per m of width: equals the applied load), elements (nx, nz), dofs,
+    solve_time_s.
+    """
+    import numpy as np
+    spla, skfem, dot, lame_parameters, linear_elasticity = _import_fe()
+
+    t0 = time.perf_counter()
+    size = element_size or thickness / 8.0
+    counts = tuple(max(1, int(round(extent / size))) for extent in (span, thickness))
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0.0, span, counts[0] + 1),
+                                      np.linspace(0.0, thickness, counts[1] + 1))
+    element = skfem.ElementVector(skfem.ElementQuad2())
+    basis = skfem.Basis(mesh, element, intorder=4)
+    stiffness = skfem.asm(linear_elasticity(*lame_parameters(young_modulus, poisson_ratio)), basis)
+
+    @skfem.LinearForm
+    def body(v, _):
+        return body_force_z * v[1]
+
+    top = skfem.FacetBasis(mesh, element, facets=mesh.facets_satisfying(lambda p: p[1] >= thickness * (1 - 1e-9)),
+                           intorder=6)
+    pressure = top_pressure if callable(top_pressure) else (lambda x, value=float(top_pressure): value + 0.0 * x)
+
+    @skfem.LinearForm
+    def traction(v, w):
+        return -pressure(w.x[0]) * v[1]     # the water pushes the top face down: traction -p n_z, n_z = +1
+
+    rhs = skfem.asm(body, basis) + skfem.asm(traction, top)
+    clamped = basis.get_dofs(lambda p: (p[0] <= 1e-9 * span) | (p[0] >= span * (1 - 1e-9))).all()
+    u = skfem.solve(*skfem.condense(stiffness, rhs, D=clamped))
+    t1 = time.perf_counter()
+
+    uz_dofs = basis.split_indices()[1]
+    locs = basis.doflocs[:, uz_dofs]
+
+    def uz_at(z):
+        nearest = np.argmin((locs[0] - 0.5 * span) ** 2 + (locs[1] - z) ** 2)
+        return float(u[uz_dofs[nearest]])
+
+    reaction = stiffness @ u - rhs
+    return {
+        "midspan_deflection_m": uz_at(0.5 * thickness),
+        "top_midspan_deflection_m": uz_at(thickness),
+        "bottom_midspan_deflection_m": uz_at(0.0),
+        "clamp_reaction_z_n_per_m": float(reaction[np.intersect1d(clamped, uz_dofs)].sum()),
+        "elements": counts,
+        "dofs": int(basis.N),
+        "solve_time_s": t1 - t0,
+    }

@@ -25,6 +25,9 @@ def _row(rung, s):
     if s.get("frequency_hz") is not None:
         measured = f"{s['frequency_hz']:.3f} ± {s['frequency_uncertainty_hz']:.3f} Hz"
         ref = f"{s['reference_hz']:.3f} Hz ({s['fe3d_source']})"
+    elif s.get("midspan_deflection_m") is not None:
+        measured = f"mid-span {1e6 * s['midspan_deflection_m']:.2f} um"
+        ref = f"FE {1e6 * s['reference_midspan_deflection_m']:.2f} um"
     elif s.get("floor_pressure_pa") is not None:
         measured = f"floor p {s['floor_pressure_pa']:.1f} Pa"
         ref = f"rho g H = {s['reference_floor_pressure_pa']:.1f} Pa"
@@ -38,6 +41,8 @@ def _row(rung, s):
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
     err = f"{100 * s['error']:.2f} %" if s.get("error") is not None else "-"
+    if s.get("error_signed") is not None:
+        err = f"{100 * s['error_signed']:+.2f} %"   # the sign says soft (+, deflects more) or stiff
     if s.get("frequency_hz") is not None and s.get("reference_hz") and s.get("error") is not None:
         err = f"{100 * (s['frequency_hz'] / s['reference_hz'] - 1.0):+.2f} %"   # the sign says stiff or soft
     m = s.get("machine", {})
@@ -71,6 +76,31 @@ def _cantilever_extra(rungs, summaries):
             "largest mean sideways speed of the free end after the first period, over Vf.", "",
             "| run | vs fe3d | vs beam | vs eq. (15) | damping ratio | energy growth / period | sideways / Vf | periods |",
             "|---|---|---|---|---|---|---|---|", *lines]
+
+
+def _solid_static_extra(rungs, summaries):
+    """The static plate by scheme and resolution: the error of the settled mid-span deflection against FE."""
+    runs = [(r, summaries.get(r.key)) for r in rungs if r.case == "solid_static"]
+    if not any(s for _, s in runs):
+        return []
+    layers = sorted({int(r.label.rsplit("_", 1)[1]) for r, _ in runs})
+    schemes = list(dict.fromkeys(r.label.rsplit("_t_over_dp_", 1)[0] for r, _ in runs))
+    lines = ["", "## The solid alone under a prescribed load (solid_static)", "",
+             "The hydrostatic-plate benchmark's plate (1 m x 0.05 m aluminium, clamped at both ends, plane strain) "
+             "under the water's exact pressure and its own weight, settled; the mid-span, mid-thickness deflection "
+             "against the project's plane-strain FE value (validation/fe_reference.py). + is softer than FE. "
+             "Wall time in brackets.", "",
+             "| scheme | " + " | ".join(f"t/dp = {n}" for n in layers) + " |",
+             "|---|" + "---|" * len(layers)]
+    for scheme in schemes:
+        cells = []
+        for n in layers:
+            s = summaries.get(f"solid_static/{scheme}_t_over_dp_{n}")
+            cells.append("not run" if s is None else
+                         f"{100 * s['error_signed']:+.2f} % ({s['wall_time_s']:.0f} s)" if s.get("error_signed")
+                         is not None else "did not finish")
+        lines.append(f"| {scheme} | " + " | ".join(cells) + " |")
+    return lines
 
 
 def _fluid_extra(rungs, summaries):
@@ -404,6 +434,7 @@ def write_report(out_dir, rungs, summaries):
     for r in rungs:
         lines.append(_row(r, summaries.get(r.key)))
     lines += _cantilever_extra(rungs, summaries)
+    lines += _solid_static_extra(rungs, summaries)
     lines += _fluid_extra(rungs, summaries)
     lines += _gate_extra(rungs, summaries)
     lines += ["", "## Plots", ""] + [f"![{p}]({p})" for p in plots]

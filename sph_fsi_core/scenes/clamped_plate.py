@@ -1,0 +1,164 @@
+"""A plate clamped at both ends under a prescribed pressure, settled to static: the solid alone against FE.
+
+This is the hydrostatic-plate benchmark (Fourey et al. 2017; ../shared/reference/hydrostatic_plate_fourey2017.csv)
+with the water replaced by the exact pressure it puts on the plate, so the solid's static answer is judged apart
+from the fluid and the load transfer. Its defaults are the benchmark's plate: span L = 1 m, thickness t = 0.05 m,
+E = 67.5 GPa, nu = 0.3, rho_s = 2700 kg/m^3 under its own weight, and 2 m of water on top: p = 1000 * 9.81 * 2 Pa.
+
+Layout, on one cubic lattice of spacing dp with sites at (i + 1/2) dp: the plate x in [0, L], z in [0, t], across a
+periodic slab in y (plane strain); `clamp_layers` layers of fixed solid particles (the clamp, movable False)
+continue it beyond each end, so the clamp faces are x = 0 and x = L. The load: the pressure
+p(x) = load_pressure + load_gradient * x (Pa) pushes the top layer of the span down, each particle carrying the
+force of its dp x dp of surface; it ramps in smoothly over `load_ramp_periods` periods of the plate's first mode
+and a mass-proportional damping (`damping_ratio` of that mode's critical damping) lets it settle. Neither changes
+the static answer; both only shorten the way to it.
+
+Probe 'midspan': the movable particles nearest mid-span and mid-thickness (two columns and two layers when the
+layer counts are even). Judged on its mean vertical displacement over the last 25 % of the run against the
+project's plane-strain FE value for the same plate and load (validation/fe_reference.py).
+"""
+import math
+
+import numpy as np
+
+from ..schema import Param, SceneError
+from ..state import Probe, SolidState
+from .built import Built, clamp_mirror_across
+
+PHASES = ("solid",)
+CONSERVATIVE = False     # the load does work
+
+# the benchmark's plate and water (hydrostatic_plate_fourey2017.csv)
+WATER_PRESSURE = 1000.0 * 9.81 * 2.0
+SETTLED_FRACTION = 0.25   # evaluate() averages over the last quarter of the run
+# first clamped-clamped bending mode: beta_1 L = 4.7300 (Euler-Bernoulli)
+CLAMPED_CLAMPED_BETA_L = 4.730040745
+
+GEOMETRY = [
+    Param("geometry.span", 1.0, "m", "Plate span L along x, clamp face to clamp face", low=0.0, low_inclusive=False,
+          high=100.0),
+    Param("geometry.thickness", 0.05, "m", "Plate thickness t along z", low=0.0, low_inclusive=False, high=10.0),
+    Param("geometry.span_layers", 0, "1", "Particle layers across the periodic slab (y; 0: the narrowest slab the "
+          "neighbour lists allow, 2 (2h + skin))", kind="int", low=0, high=10000),
+    Param("geometry.clamp_layers", 4, "1", "Layers of fixed particles beyond each end (at least 2h)", kind="int",
+          low=1, high=40),
+    Param("geometry.load_pressure", WATER_PRESSURE, "Pa", "Pressure on the plate's top face at x = 0 (pushing down; "
+          "the benchmark: 2 m of water)", low=-1.0e9, high=1.0e9),
+    Param("geometry.load_gradient", 0.0, "Pa/m", "Change of the pressure along x (a linear, hydrostatic-like load)",
+          low=-1.0e10, high=1.0e10),
+    Param("geometry.load_ramp_periods", 2.0, "1", "The load ramps in over this many periods of the plate's first "
+          "mode (0: all at once)", low=0.0, high=1000.0),
+    Param("geometry.damping_ratio", 1.0, "1", "Mass-proportional damping, as a fraction of the first mode's critical "
+          "damping (settles the plate; the static answer does not depend on it)", low=0.0, high=100.0),
+]
+
+DEFAULTS = {"scene.end_time": 0.02, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.0125,
+            "output.timeseries_interval": 1.0e-4, "output.snapshot_interval": 0.0,
+            "solid.density": 2700.0, "solid.young_modulus": 67.5e9, "solid.poisson_ratio": 0.3}
+
+
+def _layers(extent, dp, key, at_least):
+    n = extent / dp
+    if abs(n - round(n)) > 1e-6 * max(n, 1.0):
+        raise SceneError(f"{key} = {extent:g} m is not a whole number of spacings (numerics.spacing = {dp:g} m); "
+                         f"allowed: a multiple of the spacing")
+    if round(n) < at_least:
+        raise SceneError(f"numerics.spacing = {dp:g} m is too coarse for {key} = {extent:g} m; allowed: at most "
+                         f"{extent / at_least:g} m ({at_least} particle layers)")
+    return int(round(n))
+
+
+def layer_counts(values):
+    dp = values["numerics.spacing"]
+    h = values["numerics.smoothing_ratio"] * dp
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * h
+    narrowest = math.ceil(2.0 * cutoff / dp - 1e-9)
+    ny = values["geometry.span_layers"] or narrowest
+    if ny < narrowest:
+        raise SceneError(f"geometry.span_layers = {ny}: a periodic slab must be at least twice the neighbour cutoff "
+                         f"(2h + skin) wide; allowed: at least {narrowest}, or 0")
+    nc = values["geometry.clamp_layers"]
+    if nc < math.ceil(2.0 * h / dp - 1e-9):
+        raise SceneError(f"geometry.clamp_layers = {nc}: thinner than the kernel's reach 2h = {2 * h / dp:.3g} dp; "
+                         f"allowed: at least {math.ceil(2.0 * h / dp - 1e-9)}")
+    return dict(nx=_layers(values["geometry.span"], dp, "geometry.span", 4),
+                nz=_layers(values["geometry.thickness"], dp, "geometry.thickness", 2), ny=ny, nc=nc)
+
+
+def check(values):
+    layer_counts(values)
+
+
+def first_mode_omega(values):
+    """omega_1 = (beta_1 L)^2 / L^2 sqrt(D / (rho t)) of a clamped-clamped plane-strain strip, rad/s."""
+    t, span = values["geometry.thickness"], values["geometry.span"]
+    nu = values["solid.poisson_ratio"]
+    rigidity = values["solid.young_modulus"] * t ** 3 / (12.0 * (1.0 - nu * nu))
+    return CLAMPED_CLAMPED_BETA_L ** 2 / span ** 2 * math.sqrt(rigidity / (values["solid.density"] * t))
+
+
+def pressure_at(values, x):
+    return values["geometry.load_pressure"] + values["geometry.load_gradient"] * x
+
+
+def build(values):
+    dp = values["numerics.spacing"]
+    c = layer_counts(values)
+    nx, nz, ny, nc = c["nx"], c["nz"], c["ny"], c["nc"]
+    x = (np.arange(-nc, nx + nc) + 0.5) * dp
+    y = (np.arange(ny) + 0.5) * dp
+    z = (np.arange(nz) + 0.5) * dp
+    pos = np.stack(np.meshgrid(x, y, z, indexing="ij"), axis=-1).reshape(-1, 3)
+    span = values["geometry.span"]
+    movable = (pos[:, 0] > 0.0) & (pos[:, 0] < span)
+    solid = SolidState.at_rest(pos, movable, values["solid.density"], dp)
+
+    top = movable & np.isclose(pos[:, 2], (nz - 0.5) * dp)
+    load = np.zeros((len(pos), 3))
+    load[top, 2] = -pressure_at(values, pos[top, 0]) * dp * dp     # N: the pressure on its dp x dp of surface
+
+    near_mid = (np.abs(pos[:, 0] - 0.5 * span) < 0.51 * dp) & (np.abs(pos[:, 2] - 0.5 * nz * dp) < 0.51 * dp)
+    mid = np.flatnonzero(near_mid & movable)
+    probes = [Probe("midspan", "solid", mid, pos[mid].mean(axis=0))]
+
+    mirror = np.maximum(clamp_mirror_across(pos, movable & (pos[:, 0] < 0.5 * span), 0, 0.0, dp),
+                        clamp_mirror_across(pos, movable & (pos[:, 0] > 0.5 * span), 0, span, dp))
+    margin = 0.5 * span + 10 * dp
+    lo = np.array([-margin, -dp, -margin])
+    hi = np.array([span + margin, (ny + 1) * dp, values["geometry.thickness"] + margin])
+    omega = first_mode_omega(values)
+    return Built(solid=solid, probes=probes, domain_lo=lo, domain_hi=hi, period=np.array([0.0, ny * dp, 0.0]),
+                 clamp_mirror=mirror, solid_load=load,
+                 load_ramp_time=values["geometry.load_ramp_periods"] * 2.0 * math.pi / omega,
+                 damping_rate=2.0 * values["geometry.damping_ratio"] * omega)
+
+
+def evaluate(series, values):
+    """Mid-span deflection, settled, against the plane-strain FE value (and the beam values beside it)."""
+    from ..validation.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
+    t = series["time"]
+    settled = t >= t[-1] * (1.0 - SETTLED_FRACTION)
+    w = series["midspan_dz"][settled]
+    deflection = float(w.mean())
+    span, thickness = values["geometry.span"], values["geometry.thickness"]
+    e, nu, rho = values["solid.young_modulus"], values["solid.poisson_ratio"], values["solid.density"]
+    gz = values["scene.gravity"][2]
+    mean_load = pressure_at(values, 0.5 * span) - rho * gz * thickness
+    beam = -clamped_plate_beam_deflection(span, thickness, e, nu, mean_load, shear=False)
+    out = {
+        "midspan_deflection_m": deflection,
+        "midspan_deflection_swing_m": float(w.max() - w.min()),
+        "settled_from_s": float(t[settled][0]),
+        "beam_theory_midspan_deflection_m": beam if values["geometry.load_gradient"] == 0.0 else None,
+        "error_metric": "relative error of the settled mid-span deflection against plane-strain FE",
+    }
+    try:
+        fe = clamped_plate_fe_deflection(span, thickness, e, nu, lambda x: pressure_at(values, x), rho * gz)
+    except ImportError as exc:    # scikit-fem and scipy are the validation's (requirements-dev.txt), not the core's
+        return {**out, "reference_midspan_deflection_m": None, "error_signed": None, "error": None,
+                "reference_note": str(exc)}
+    reference = fe["midspan_deflection_m"]
+    error = (deflection - reference) / reference
+    return {**out, "reference_midspan_deflection_m": reference,
+            "reference": "plane-strain FE, biquadratic quadrilaterals, t / 8 (validation/fe_reference.py)",
+            "error_signed": error, "error": abs(error)}
