@@ -6,7 +6,7 @@
     sph-fsi replay FILE.mcap [--rate R] [--wait-for-subscribers N]
     sph-fsi scenes
     sph-fsi keys [SCENE] [--yaml]
-    sph-fsi validate [CASE ...] [--quick] [--workers N]
+    sph-fsi validate [CASE ...] [--quick] [--workers N] [--missing]
     sph-fsi stability [NAME ...] [--ci] [--out DIR]
 
 Exit status: 0 on success; 2 on bad input (one line naming the key and the allowed range); 3 when the run
@@ -218,7 +218,7 @@ def _print_summary(s, out):
 def _cmd_validate(args):
     from sph_fsi_core.validation.ladder import main as validate_main
     return validate_main(args.cases, quick=args.quick, workers=args.workers, out_dir=args.out,
-                         report_only=args.report_only)
+                         report_only=args.report_only, missing=args.missing)
 
 
 def _cmd_stability(args):
@@ -266,6 +266,8 @@ def build_parser():
                    help=f"where REPORT.md, plots and runs go (default {DEFAULT_OUT_DIR}; --out docs/validation "
                         f"publishes into the project's committed report)")
     p.add_argument("--report-only", action="store_true", help="rebuild REPORT.md and plots from earlier runs")
+    p.add_argument("--missing", action="store_true",
+                   help="run only the rungs that have no summary.json in --out yet (finish a stopped ladder)")
     p.set_defaults(func=_cmd_validate)
     p = sub.add_parser("stability", help="stiff and extreme cases: the outcome of each (stable, refused, diverged)")
     p.add_argument("names", nargs="*", help="run only cases whose name contains one of these")

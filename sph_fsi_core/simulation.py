@@ -58,6 +58,7 @@ class Simulation:
         # None and 0 in every other scene, which then cost nothing
         self.solid_load, self.load_ramp_time = built.solid_load, built.load_ramp_time
         self.damping_rate = built.damping_rate
+        self.fluid_damping_rate = built.fluid_damping_rate
         self.period = built.period
         self.spacing = v["numerics.spacing"]
         self.h = v["numerics.smoothing_ratio"] * self.spacing
@@ -347,6 +348,10 @@ class Simulation:
                 self._damp_solid(duration)
         if self.fluid is not None:
             self._advance_fluid(duration)
+            if self.coupling is not None and self.damping_rate > 0.0:
+                self._damp_solid(duration)
+            if self.fluid_damping_rate > 0.0:
+                self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
         self.time += duration
         self.outer_steps += 1
         self.watchdog.check()

@@ -23,6 +23,8 @@ class Built:
     solid_load: np.ndarray | None = None
     load_ramp_time: float = 0.0
     damping_rate: float = 0.0
+    # a static coupled case (scenes/hydrostatic_plate.py): the water's velocities relax at this rate (1/s)
+    fluid_damping_rate: float = 0.0
 
 
 def clamp_mirror_across(pos, movable, axis, face, spacing):

@@ -167,3 +167,98 @@ def sample_fluid(sim):
 def sigma_zz(solid):
     """sigma_zz = S_zz - p on every solid particle, Pa (the paper's sigma^22)."""
     return solid.stress[:, 2] - solid.pressure
+
+
+# ---- the gate held static under its water (scenes/antoci_gate_static.py, antoci_gate_loaded.py) -----------------
+CANTILEVER_BETA_L = 1.8751040687    # first clamped-free bending mode (Euler-Bernoulli)
+
+
+def static_params(damping_ratio, water_damping_ratio=None):
+    """The static gates' relaxation keys (the water's only where there is water)."""
+    out = [Param("geometry.damping_ratio", damping_ratio, "1", "The gate's mass-proportional damping, as a fraction "
+                 "of its first dry mode's critical damping (settles it; the static answer does not depend on it)",
+                 low=0.0, high=100.0)]
+    if water_damping_ratio is not None:
+        out.append(Param("geometry.water_damping_ratio", water_damping_ratio, "1", "The water's velocity "
+                         "relaxation, as a fraction of the critical damping of the column's breathing mode (settles "
+                         "it; the static answer does not depend on it)", low=0.0, high=100.0))
+    return out
+
+
+def first_mode_omega(values):
+    """omega_1 = (beta_1 L)^2 / L^2 sqrt(D / (rho T)) of the gate's free length as a plane-strain cantilever, rad/s
+    (L and T rounded to whole spacings, as built)."""
+    g = effective_geometry(values)
+    length, thickness = g["gate_free_length_m"], g["gate_thickness_m"]
+    nu = values["solid.poisson_ratio"]
+    rigidity = values["solid.young_modulus"] * thickness ** 3 / (12.0 * (1.0 - nu * nu))
+    return CANTILEVER_BETA_L ** 2 / length ** 2 * math.sqrt(rigidity / (values["solid.density"] * thickness))
+
+
+def wet_face(values, pos, movable):
+    """Indices of the gate's movable particles in its layer next to the water, and the unit x direction in which
+    the water pushes them (+1 for a mirrored gate, whose water is on its -x side)."""
+    dp = values["numerics.spacing"]
+    nt = layer_counts(values)["nt"]
+    x_wet = (nt - 0.5) * dp
+    sign = 1.0
+    if values["geometry.mirror"]:
+        x_wet, sign = -x_wet, -1.0
+    face = np.flatnonzero(movable & np.isclose(pos[:, 0], x_wet))
+    return face, -sign
+
+
+def water_surface_z(values):
+    return layer_counts(values)["nh"] * values["numerics.spacing"]
+
+
+def static_tip_reference(values, water_density, gravity):
+    """The free end's static deflection (m, + along the water's push) under the hydrostatic pressure of the water
+    at rest, p = rho_f g (H - z), on the wet face of the free length, and the gate's own weight along it: plane-strain
+    FE of the built gate (validation/fe_reference.py), with the Euler-Bernoulli value of the same load beside it."""
+    from ..validation.fe_reference import cantilever_strip_fe_deflection
+    g = effective_geometry(values)
+    length, thickness, clearance = g["gate_free_length_m"], g["gate_thickness_m"], g["gate_clearance_m"]
+    height = water_surface_z(values)
+    clamp_z = clearance + length
+
+    def pressure(x):            # x: distance from the clamp face down the gate
+        return water_density * gravity * np.maximum(height - (clamp_z - x), 0.0)
+
+    fe = cantilever_strip_fe_deflection(length, thickness, values["solid.young_modulus"],
+                                        values["solid.poisson_ratio"], pressure,
+                                        values["solid.density"] * gravity)
+    # Euler-Bernoulli with a distributed load q(x): tip = integral q(s) s^2 (3 L - s) / (6 D) ds, s from the clamp
+    nu = values["solid.poisson_ratio"]
+    rigidity = values["solid.young_modulus"] * thickness ** 3 / (12.0 * (1.0 - nu * nu))
+    s = np.linspace(0.0, length, 4001)
+    integrand = pressure(s) * s * s * (3.0 * length - s) / (6.0 * rigidity)
+    beam = float(np.sum(0.5 * (integrand[1:] + integrand[:-1]) * np.diff(s)))
+    return {"fe_tip_deflection_m": fe["tip_deflection_m"], "beam_tip_deflection_m": beam,
+            "fe_elements": list(fe["elements"])}
+
+
+def evaluate_static(series, values, water_density, gravity, settled_fraction=0.25):
+    """The free end's settled x displacement (mean over the last `settled_fraction` of the run, + along the water's
+    push) against the plane-strain FE value (static_tip_reference)."""
+    t = series["time"]
+    settled = t >= t[-1] * (1.0 - settled_fraction)
+    push = -1.0 if not values["geometry.mirror"] else 1.0
+    tip = push * series["tip_dx"][settled]
+    measured = float(tip.mean())
+    out = {"tip_deflection_m": measured, "tip_deflection_swing_m": float(tip.max() - tip.min()),
+           "settled_from_s": float(t[settled][0]), "geometry_effective": effective_geometry(values),
+           "error_metric": "relative error of the free end's settled deflection against plane-strain FE under the "
+                           "water's hydrostatic pressure and the gate's weight"}
+    try:
+        ref = static_tip_reference(values, water_density, gravity)
+    except ImportError as exc:
+        return {**out, "reference_tip_deflection_m": None, "error_signed": None, "error": None,
+                "reference_note": str(exc)}
+    error = measured / ref["fe_tip_deflection_m"] - 1.0
+    return {**out, "reference_tip_deflection_m": ref["fe_tip_deflection_m"],
+            "beam_tip_deflection_m": ref["beam_tip_deflection_m"],
+            "reference": "plane-strain FE of the free length, biquadratic quadrilaterals, T / 8 "
+                         "(validation/fe_reference.py)",
+            "tip_deflection_over_length": measured / effective_geometry(values)["gate_free_length_m"],
+            "error_signed": error, "error": abs(error)}

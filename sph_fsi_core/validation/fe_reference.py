@@ -1,5 +1,6 @@
 """Finite-element references (optional: scikit-fem + scipy): the 3D frequencies of a clamped-free cantilever, and
-the static deflection of a plane-strain strip clamped at both ends (the hydrostatic-plate benchmark).
+the static deflection of a plane-strain strip clamped at both ends (the hydrostatic-plate benchmark) or at one
+(a gate held static under its water's hydrostatic pressure).
 
 This is how reference_data/cantilever_frequencies.csv's `fe3d_*` columns are computed: a beam L x W x H
 (x along the length, y the width, z the thickness = vertical), clamped on its whole x = 0 face, meshed with
@@ -210,6 +211,61 @@ def clamped_plate_beam_deflection(span, thickness, young_modulus, poisson_ratio,
     return w
 
 
+def _strip_static(length, thickness, young_modulus, poisson_ratio, face_pressure, body_force, clamp_both,
+                  element_size):
+    """Static plane-strain displacement of a strip [0, length] x [0, thickness] (x along it, z across) clamped on
+    its x = 0 face (and its x = length face when `clamp_both`), under a pressure `face_pressure(x)` (Pa) on its
+    z = thickness face pushing towards -z and a body force `body_force` = (f_x, f_z) (N/m^3) throughout.
+
+    Small-strain isotropic elasticity in plane strain (the 3D Lame constants on the x-z plane: a periodic slab
+    across y), biquadratic (9-node) quadrilaterals, round(extent / element_size) per direction (default:
+    thickness / 8), a sparse direct solve. Returns (u, basis, stiffness, rhs, clamped dofs, counts, seconds)."""
+    import numpy as np
+    spla, skfem, dot, lame_parameters, linear_elasticity = _import_fe()
+
+    t0 = time.perf_counter()
+    size = element_size or thickness / 8.0
+    counts = tuple(max(1, int(round(extent / size))) for extent in (length, thickness))
+    mesh = skfem.MeshQuad.init_tensor(np.linspace(0.0, length, counts[0] + 1),
+                                      np.linspace(0.0, thickness, counts[1] + 1))
+    element = skfem.ElementVector(skfem.ElementQuad2())
+    basis = skfem.Basis(mesh, element, intorder=4)
+    stiffness = skfem.asm(linear_elasticity(*lame_parameters(young_modulus, poisson_ratio)), basis)
+    fx, fz = body_force
+
+    @skfem.LinearForm
+    def body(v, _):
+        return fx * v[0] + fz * v[1]
+
+    face = skfem.FacetBasis(mesh, element, intorder=6,
+                            facets=mesh.facets_satisfying(lambda p: p[1] >= thickness * (1 - 1e-9)))
+
+    @skfem.LinearForm
+    def traction(v, w):
+        return -face_pressure(w.x[0]) * v[1]     # the pressure pushes the face in: traction -p n_z, n_z = +1
+
+    rhs = skfem.asm(body, basis) + skfem.asm(traction, face)
+    if clamp_both:
+        clamped = basis.get_dofs(lambda p: (p[0] <= 1e-9 * length) | (p[0] >= length * (1 - 1e-9))).all()
+    else:
+        clamped = basis.get_dofs(lambda p: p[0] <= 1e-9 * length).all()
+    u = skfem.solve(*skfem.condense(stiffness, rhs, D=clamped))
+    return u, basis, stiffness, rhs, clamped, counts, time.perf_counter() - t0
+
+
+def _as_function(pressure):
+    return pressure if callable(pressure) else (lambda x, value=float(pressure): value + 0.0 * x)
+
+
+def _displacement_at(u, basis, x, z):
+    """(u_x, u_z) at the degree of freedom nearest (x, z)."""
+    import numpy as np
+    ux_dofs, uz_dofs = basis.split_indices()
+    locs = basis.doflocs[:, uz_dofs]
+    nearest = np.argmin((locs[0] - x) ** 2 + (locs[1] - z) ** 2)
+    return float(u[ux_dofs[nearest]]), float(u[uz_dofs[nearest]])
+
+
 def clamped_plate_fe_deflection(span, thickness, young_modulus, poisson_ratio, top_pressure, body_force_z=0.0,
                                 element_size=None):
     """Static plane-strain deflection of a strip [0, span] x [0, thickness] (x along the span, z up) clamped on
@@ -223,49 +279,34 @@ def clamped_plate_fe_deflection(span, thickness, young_modulus, poisson_ratio, t
     vertical reaction at the clamps (N per m of width: equals the applied load), elements (nx, nz), dofs,
     solve_time_s.
     """
-    import numpy as np
-    spla, skfem, dot, lame_parameters, linear_elasticity = _import_fe()
-
-    t0 = time.perf_counter()
-    size = element_size or thickness / 8.0
-    counts = tuple(max(1, int(round(extent / size))) for extent in (span, thickness))
-    mesh = skfem.MeshQuad.init_tensor(np.linspace(0.0, span, counts[0] + 1),
-                                      np.linspace(0.0, thickness, counts[1] + 1))
-    element = skfem.ElementVector(skfem.ElementQuad2())
-    basis = skfem.Basis(mesh, element, intorder=4)
-    stiffness = skfem.asm(linear_elasticity(*lame_parameters(young_modulus, poisson_ratio)), basis)
-
-    @skfem.LinearForm
-    def body(v, _):
-        return body_force_z * v[1]
-
-    top = skfem.FacetBasis(mesh, element, facets=mesh.facets_satisfying(lambda p: p[1] >= thickness * (1 - 1e-9)),
-                           intorder=6)
-    pressure = top_pressure if callable(top_pressure) else (lambda x, value=float(top_pressure): value + 0.0 * x)
-
-    @skfem.LinearForm
-    def traction(v, w):
-        return -pressure(w.x[0]) * v[1]     # the water pushes the top face down: traction -p n_z, n_z = +1
-
-    rhs = skfem.asm(body, basis) + skfem.asm(traction, top)
-    clamped = basis.get_dofs(lambda p: (p[0] <= 1e-9 * span) | (p[0] >= span * (1 - 1e-9))).all()
-    u = skfem.solve(*skfem.condense(stiffness, rhs, D=clamped))
-    t1 = time.perf_counter()
-
+    u, basis, stiffness, rhs, clamped, counts, seconds = _strip_static(
+        span, thickness, young_modulus, poisson_ratio, _as_function(top_pressure), (0.0, body_force_z), True,
+        element_size)
     uz_dofs = basis.split_indices()[1]
-    locs = basis.doflocs[:, uz_dofs]
-
-    def uz_at(z):
-        nearest = np.argmin((locs[0] - 0.5 * span) ** 2 + (locs[1] - z) ** 2)
-        return float(u[uz_dofs[nearest]])
-
+    import numpy as np
     reaction = stiffness @ u - rhs
     return {
-        "midspan_deflection_m": uz_at(0.5 * thickness),
-        "top_midspan_deflection_m": uz_at(thickness),
-        "bottom_midspan_deflection_m": uz_at(0.0),
+        "midspan_deflection_m": _displacement_at(u, basis, 0.5 * span, 0.5 * thickness)[1],
+        "top_midspan_deflection_m": _displacement_at(u, basis, 0.5 * span, thickness)[1],
+        "bottom_midspan_deflection_m": _displacement_at(u, basis, 0.5 * span, 0.0)[1],
         "clamp_reaction_z_n_per_m": float(reaction[np.intersect1d(clamped, uz_dofs)].sum()),
         "elements": counts,
         "dofs": int(basis.N),
-        "solve_time_s": t1 - t0,
+        "solve_time_s": seconds,
     }
+
+
+def cantilever_strip_fe_deflection(length, thickness, young_modulus, poisson_ratio, face_pressure,
+                                   body_force_along=0.0, element_size=None):
+    """Static plane-strain deflection of a cantilever strip [0, length] x [0, thickness] clamped on its x = 0
+    face and free at x = length, under a pressure `face_pressure` (Pa; a number or a function of the distance x
+    from the clamp) on one face, pushing across the strip, and a body force `body_force_along` (N/m^3) along it
+    (a hanging gate's own weight). Same elements as clamped_plate_fe_deflection. Returns a dict: tip_deflection_m
+    (across the strip, along the pressure, at the free end's mid-thickness: positive), tip_axial_m (along the
+    strip, + away from the clamp), elements, dofs, solve_time_s."""
+    u, basis, _, _, _, counts, seconds = _strip_static(
+        length, thickness, young_modulus, poisson_ratio, _as_function(face_pressure), (body_force_along, 0.0), False,
+        element_size)
+    ux, uz = _displacement_at(u, basis, length, 0.5 * thickness)
+    return {"tip_deflection_m": -uz, "tip_axial_m": ux, "elements": counts, "dofs": int(basis.N),
+            "solve_time_s": seconds}

@@ -88,7 +88,9 @@ def load_summaries(out_dir, rungs):
     return found
 
 
-def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=False):
+def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=False, missing=False):
+    """`sph-fsi validate`: run the cases' rungs (`missing`: only those without a summary.json in out_dir yet),
+    write the report, and return 0, or 1 if a rung did not finish stably (or, with `quick`, is above its bound)."""
     cases = tuple(c for name in cases for c in CASE_GROUPS.get(name, (name,)))
     rungs = [r for r in all_rungs() if (not cases or r.case in cases) and (r.quick or not quick)]
     if not rungs:
@@ -96,8 +98,10 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
         print(f"sph-fsi validate: no such case {list(cases)}; allowed: {', '.join(known)}", file=sys.stderr)
         return 2
     if not report_only:
-        print(f"sph-fsi validate: {len(rungs)} run(s) into {out_dir}/runs/", flush=True)
-        run_rungs(rungs, out_dir, workers)
+        todo = [r for r in rungs if not (missing and (rung_dir(out_dir, r) / "summary.json").exists())]
+        print(f"sph-fsi validate: {len(todo)} run(s) into {out_dir}/runs/"
+              + (f" ({len(rungs) - len(todo)} already there)" if missing else ""), flush=True)
+        run_rungs(todo, out_dir, workers)
     from .report import write_report
     # The report covers the cases asked for (all of them by default), so a fluid-only report does not list the
     # cantilever's rungs as "not run".

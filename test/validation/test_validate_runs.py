@@ -37,3 +37,55 @@ def test_validate_and_stability_write_outside_the_source_tree_by_default():
     for command in ("validate", "stability"):
         assert parser.parse_args([command]).out == "runs/validation"
         assert parser.parse_args([command, "--out", "docs/validation"]).out == "docs/validation"
+
+
+def _summary(**fields):
+    base = {"stable": True, "diverged": None, "particles": {"solid": 100, "fluid": 1000}, "solid_steps": 10,
+            "fluid_steps": 2, "wall_time_s": 12.0, "particle_steps_per_second": 1.0e6,
+            "machine": {"numba_threads": 1, "commit": "abc"}, "settings": {"numerics.spacing": 0.00125}}
+    base.update(fields)
+    return base
+
+
+def test_report_names_its_command_and_separates_load_transfer_from_bending(tmp_path):
+    """The static gate's table: coupled against loaded (the load transfer), loaded against FE (the bending), from
+    the rungs' summaries; the header gives the command that made the page, with its cases and --out."""
+    from sph_fsi_core.validation.report import write_report
+    rungs = [r for r in validation.all_rungs() if r.case == "gate_static"]
+    fe = 3.7e-3
+    summaries = {
+        "gate_static/coupled_dp1.25mm": _summary(tip_deflection_m=1.10 * fe, tip_deflection_swing_m=1e-4,
+                                                 reference_tip_deflection_m=fe, error_signed=0.10, error=0.10),
+        "gate_static/loaded_dp1.25mm": _summary(tip_deflection_m=1.05 * fe, tip_deflection_swing_m=0.0,
+                                                reference_tip_deflection_m=fe, error_signed=0.05, error=0.05),
+    }
+    text = write_report(tmp_path / "gs", rungs, summaries).read_text()
+    assert f"`sph-fsi validate gate_static --out {(tmp_path / 'gs').as_posix()}`" in text
+    row = next(line for line in text.splitlines() if line.startswith("| dp1.25mm |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[1] == "4.070 (12 s)" and cells[4] == "3.885 (12 s)" and cells[5] == "not run"
+    assert cells[3] == "-" and cells[6] == "3.700"                 # no water load in this coupled summary
+    assert cells[7] == "+4.76 %" and cells[8] == "+5.00 %"          # 1.10 / 1.05 - 1; loaded against FE
+    assert "| gate_static | coupled_dp1.67mm | not run |" in text
+
+
+def test_missing_runs_only_the_rungs_without_a_summary(tmp_path, monkeypatch):
+    """`sph-fsi validate --missing` finishes a stopped ladder: rungs with a summary.json are not run again."""
+    calls = []
+
+    def fake_run(args):
+        rung, out_dir = args
+        calls.append(rung.key)
+        d = validation.rung_dir(out_dir, rung)
+        d.mkdir(parents=True, exist_ok=True)
+        (d / "summary.json").write_text(json.dumps(_summary(error=0.01)))
+        return {"stable": True}
+
+    monkeypatch.setattr(validation, "run_rung", fake_run)
+    rungs = [r for r in validation.all_rungs() if r.case == "gate_static"]
+    done = validation.rung_dir(tmp_path, rungs[0])
+    done.mkdir(parents=True)
+    (done / "summary.json").write_text(json.dumps(_summary(error=0.02)))
+    assert validation.main(["gate_static"], out_dir=tmp_path, missing=True) == 0
+    assert calls == [r.key for r in rungs[1:]]
+    assert json.loads((done / "summary.json").read_text())["error"] == 0.02

@@ -1,0 +1,98 @@
+"""The hydrostatic plate's set-up (scenes/hydrostatic_plate.py): the plate, the water on it, the walls beside it, the
+relaxation that settles both, and how a run is judged."""
+import math
+
+import numpy as np
+import pytest
+
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.scenes import clamped_plate, hydrostatic_plate
+from sph_fsi_core.simulation import Simulation
+
+# a small soft plate that steps in a blink: 0.2 m x 0.02 m under 0.1 m of water, 4 particles through
+SMALL = ["geometry.span=0.2", "geometry.thickness=0.02", "geometry.water_height=0.1", "geometry.wall_height=0.11",
+         "numerics.spacing=0.005", "solid.young_modulus=1.0e8", "output.timeseries_interval=5.0e-4"]
+
+
+def built(*overrides):
+    spec = load_scene("hydrostatic_plate", list(overrides))
+    return spec, hydrostatic_plate.build(spec.values)
+
+
+def test_the_benchmark_set_up():
+    """Fourey et al. 2017's numbers (hydrostatic_plate_fourey2017.csv) are the scene file's."""
+    spec, b = built()
+    v = spec.values
+    assert (v["geometry.span"], v["geometry.thickness"], v["geometry.water_height"]) == (1.0, 0.05, 2.0)
+    assert (v["solid.young_modulus"], v["solid.poisson_ratio"], v["solid.density"]) == (67.5e9, 0.3, 2700.0)
+    assert v["fluid.density"] == 1000.0 and v["scene.gravity"] == pytest.approx((0.0, 0.0, -9.81))
+    c = hydrostatic_plate.layer_counts(v)
+    assert (c["nx"], c["nz"], c["nh"]) == (80, 4, 160)
+    assert b.fluid.count == 80 * 160 * c["ny"]
+    assert b.solid.moving_count == 80 * 4 * c["ny"]
+
+
+def test_water_sits_on_the_span_and_the_walls_on_the_clamps():
+    spec, b = built(*SMALL)
+    dp, span, t = spec["numerics.spacing"], spec["geometry.span"], spec["geometry.thickness"]
+    water, walls, solid = b.fluid.pos, b.walls.pos, b.solid.pos
+    assert water[:, 0].min() == pytest.approx(0.5 * dp) and water[:, 0].max() == pytest.approx(span - 0.5 * dp)
+    assert water[:, 2].min() == pytest.approx(t + 0.5 * dp)
+    # the walls continue the clamps upwards, the clamps are the only fixed solid, beyond the span
+    fixed = solid[~b.solid.movable]
+    assert np.all((fixed[:, 0] < 0.0) | (fixed[:, 0] > span))
+    assert np.all((walls[:, 0] < 0.0) | (walls[:, 0] > span)) and walls[:, 2].min() == pytest.approx(t + 0.5 * dp)
+    layers = spec["geometry.wall_layers"]
+    assert walls[:, 0].min() == pytest.approx(-(layers - 0.5) * dp)
+    assert walls[:, 2].max() == pytest.approx(t + spec["geometry.wall_height"] - 0.5 * dp)
+    # every clamp particle mirrors a plate particle across its own clamp face (solid.clamp = mirrored)
+    ghosts = np.flatnonzero(b.clamp_mirror >= 0)
+    assert len(ghosts) == (~b.solid.movable).sum()
+
+
+def test_breathing_period_and_relaxation_rates():
+    spec = load_scene("hydrostatic_plate", SMALL)
+    v = spec.values
+    # a quarter wave in a column whose compressibility is the tolerance's: 4 H / sqrt(g H / tol)
+    assert hydrostatic_plate.breathing_period(v) == pytest.approx(4 * 0.1 / math.sqrt(9.81 * 0.1 / 0.01))
+    b = hydrostatic_plate.build(v)
+    assert b.damping_rate == pytest.approx(2.0 * clamped_plate.first_mode_omega(v))
+    assert b.fluid_damping_rate == pytest.approx(2.0 * 2.0 * math.pi / hydrostatic_plate.breathing_period(v))
+
+
+def test_the_water_relaxes_by_exp_minus_rate_per_outer_step():
+    """The relaxation scales the water's velocities after its step and nothing else: one outer step with and
+    without it differ by exactly that factor (the solid's push is taken inside the step, before it)."""
+    damped = Simulation(load_scene("hydrostatic_plate", SMALL + ["geometry.damping_ratio=0"]))
+    free = Simulation(load_scene("hydrostatic_plate", SMALL + ["geometry.damping_ratio=0",
+                                                               "geometry.water_damping_ratio=0"]))
+    damped.step()
+    free.step()
+    factor = math.exp(-damped.fluid_damping_rate * damped.outer_step_duration())
+    assert 0.0 < factor < 1.0
+    assert np.array_equal(damped.fluid.pos, free.fluid.pos)
+    assert np.allclose(damped.fluid.vel, factor * free.fluid.vel, rtol=1e-12, atol=0.0)
+    assert np.abs(free.fluid.vel).max() > 0.0
+
+
+def test_evaluate_judges_against_fe_and_the_column_weight():
+    """A synthetic settled record: the deflection error is against clamped_plate's FE value under rho_f g H, and
+    the water's load against rho_f g H L W (W the slab's width)."""
+    spec = load_scene("hydrostatic_plate", SMALL)
+    v = spec.values
+    c = hydrostatic_plate.layer_counts(v)
+    width = c["ny"] * v["numerics.spacing"]
+    weight = 1000.0 * 9.81 * 0.1 * 0.2 * width
+    fe = clamped_plate.evaluate(
+        {"time": np.array([0.0, 1.0]), "midspan_dz": np.array([0.0, 0.0])},
+        {**v, "geometry.load_pressure": 981.0, "geometry.load_gradient": 0.0})["reference_midspan_deflection_m"]
+    t = np.linspace(0.0, 1.0, 101)
+    series = {"time": t, "midspan_dz": np.full_like(t, 1.02 * fe), "coupling_force_z": np.full_like(t, -0.97 * weight),
+              "water_force_z_all": np.full_like(t, -weight)}
+    out = hydrostatic_plate.evaluate(series, v)
+    assert out["hydrostatic_pressure_pa"] == pytest.approx(981.0)
+    assert out["reference_midspan_deflection_m"] == pytest.approx(fe)
+    assert out["error_signed"] == pytest.approx(0.02)
+    assert out["water_weight_n"] == pytest.approx(weight)
+    assert out["water_load_error"] == pytest.approx(-0.03)
+    assert out["water_load_all_n"] == pytest.approx(weight)
