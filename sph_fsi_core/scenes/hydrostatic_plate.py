@@ -22,7 +22,7 @@ dry mode's critical damping), the water's velocities at the rate 2 zeta omega_b 
 (`water_damping_ratio` = zeta), each applied per outer step. Neither changes the static answer.
 
 Probe 'midspan': the movable particles nearest mid-span and mid-thickness, as clamped_plate's. Judged on its mean
-vertical displacement over the last quarter of the run against the project's plane-strain FE value for the same
+vertical displacement over the last half of the run against the project's plane-strain FE value for the same
 plate under rho_f g H and its own weight (validation/fe_reference.py), with the beam value beside it, and on the
 water's total vertical force on the plate against rho_f g H L W (the weight of the column, exact at rest).
 """
@@ -38,7 +38,9 @@ from .built import Built, clamp_mirror_across
 PHASES = ("solid", "fluid", "walls", "coupling")
 CONSERVATIVE = False     # gravity does work as the water settles
 
-SETTLED_FRACTION = clamped_plate.SETTLED_FRACTION
+# evaluate() averages over the last half of the run: the water's push comes in pulses at the fluid step and its
+# mean over 50 ms still varies by a few per cent (docs/validation/OPEN.md, 1.0); settled well before (0.15 s at 0.3 s)
+SETTLED_FRACTION = 0.5
 
 GEOMETRY = [
     Param("geometry.span", 1.0, "m", "Plate span L along x, clamp face to clamp face (the water's width)", low=0.0,
@@ -146,11 +148,12 @@ def evaluate(series, values):
     g = -values["scene.gravity"][2]
     pressure = values["fluid.density"] * g * height
     plate_values = {**values, "geometry.load_pressure": pressure, "geometry.load_gradient": 0.0}
-    out = clamped_plate.evaluate(series, plate_values)
+    out = clamped_plate.evaluate(series, plate_values, settled_fraction=SETTLED_FRACTION)
     t = series["time"]
     settled = t >= t[-1] * (1.0 - SETTLED_FRACTION)
     weight = values["fluid.density"] * g * height * span * c["ny"] * dp
     force = float(np.mean(series["coupling_force_z"][settled]))
+    out["water_load_blocks_n"] = [-f for f in clamped_plate.block_means(series["coupling_force_z"][settled])]
     out.update({
         "hydrostatic_pressure_pa": pressure,
         "water_load_n": -force,

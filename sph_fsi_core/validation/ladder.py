@@ -111,7 +111,9 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
     failed = []
     for r in rungs:
         s = summaries.get(r.key)
-        if s is None or not s["stable"]:
+        if s is None:
+            failed.append(f"{r.key}: not run (no summary.json in {rung_dir(out_dir, r)})")
+        elif not s["stable"]:
             failed.append(f"{r.key}: did not finish stably")
         elif r.bound is not None and quick and (s.get("error") is None or s["error"] > r.bound):
             failed.append(f"{r.key}: error {s.get('error')} above the bound {r.bound}")
