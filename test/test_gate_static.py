@@ -73,3 +73,19 @@ def test_coupled_twin_reports_the_water_load_against_the_hydrostatic_force():
     assert out["water_load_exact_n"] == pytest.approx(exact, rel=1e-12)
     assert out["water_load_error"] == pytest.approx(-0.02, abs=2e-3)
     assert out["error_signed"] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_fe_is_read_where_the_probe_sits():
+    """The 'tip' probe is the lowest particle layer, half a spacing above the body's free end: the FE reference is
+    read there, which is less than at the end by about the end's slope times dp / 2 (slope 4/3 of the deflection
+    over L for a uniform load; a little less under the hydrostatic one, which is smaller near the end)."""
+    v = load_scene("antoci_gate_loaded").values
+    dp = v["numerics.spacing"]
+    length = gate.effective_geometry(v)["gate_free_length_m"]
+    ref = gate.static_tip_reference(v, 1000.0, 1.0)
+    assert ref["probe_from_clamp_m"] == pytest.approx(length - 0.5 * dp, rel=1e-12)
+    drop = 1.0 - ref["fe_tip_deflection_m"] / ref["fe_free_end_deflection_m"]
+    assert drop == pytest.approx(4.0 / 3.0 * 0.5 * dp / length, rel=0.15)
+    # the probe's particles sit there: their mean height is the free end's plus half a spacing (clearance 0)
+    b = antoci_gate_loaded.build(v)
+    assert b.solid.pos[b.probes[0].indices, 2].mean() == pytest.approx(0.5 * dp, rel=1e-9)

@@ -297,16 +297,23 @@ def clamped_plate_fe_deflection(span, thickness, young_modulus, poisson_ratio, t
 
 
 def cantilever_strip_fe_deflection(length, thickness, young_modulus, poisson_ratio, face_pressure,
-                                   body_force_along=0.0, element_size=None):
+                                   body_force_along=0.0, element_size=None, probe_x=None):
     """Static plane-strain deflection of a cantilever strip [0, length] x [0, thickness] clamped on its x = 0
     face and free at x = length, under a pressure `face_pressure` (Pa; a number or a function of the distance x
     from the clamp) on one face, pushing across the strip, and a body force `body_force_along` (N/m^3) along it
-    (a hanging gate's own weight). Same elements as clamped_plate_fe_deflection. Returns a dict: tip_deflection_m
-    (across the strip, along the pressure, at the free end's mid-thickness: positive), tip_axial_m (along the
-    strip, + away from the clamp), elements, dofs, solve_time_s."""
+    (a hanging gate's own weight). Same elements as clamped_plate_fe_deflection. Read at mid-thickness, at
+    x = `probe_x` from the clamp (default: the free end), which must be a node (a multiple of element_size / 2).
+    Returns a dict: tip_deflection_m (across the strip, along the pressure: positive), tip_axial_m (along the
+    strip, + away from the clamp), probe_x_m, elements, dofs, solve_time_s."""
+    import numpy as np
     u, basis, _, _, _, counts, seconds = _strip_static(
         length, thickness, young_modulus, poisson_ratio, _as_function(face_pressure), (body_force_along, 0.0), False,
         element_size)
-    ux, uz = _displacement_at(u, basis, length, 0.5 * thickness)
-    return {"tip_deflection_m": -uz, "tip_axial_m": ux, "elements": counts, "dofs": int(basis.N),
+    x = length if probe_x is None else probe_x
+    locs = basis.doflocs[:, basis.split_indices()[1]]
+    if np.min(np.hypot(locs[0] - x, locs[1] - 0.5 * thickness)) > 1e-9 * length:
+        raise ValueError(f"probe_x = {x:g} m at mid-thickness is not a node of the mesh; allowed: a multiple of "
+                         f"element_size / 2")
+    ux, uz = _displacement_at(u, basis, x, 0.5 * thickness)
+    return {"tip_deflection_m": -uz, "tip_axial_m": ux, "probe_x_m": x, "elements": counts, "dofs": int(basis.N),
             "solve_time_s": seconds}

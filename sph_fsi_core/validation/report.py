@@ -173,7 +173,7 @@ def _gate_static_extra(rungs, summaries):
             "over the settled window; the water's push on the free length against the exact hydrostatic force), under the "
             "water's exact hydrostatic pressure (scenes/antoci_gate_loaded.py) "
             "with the antoci_gate scheme and with quadratic_gradient and the mirrored clamp, and plane-strain FE of "
-            "the free length. Load transfer: coupled against loaded (same solid); bending: loaded against FE.", "",
+            "the free length read where the probe sits (the lowest particle layer, half a spacing above the free end). Load transfer: coupled against loaded (same solid); bending: loaded against FE.", "",
             "| spacing | coupled | swing | water on the gate / exact | loaded | loaded, quadratic_gradient mirrored | "
             "FE | load transfer | bending | bending, quadratic_gradient mirrored |",
             "|---|---|---|---|---|---|---|---|---|---|", *lines]
