@@ -29,8 +29,8 @@ def test_loaded_gate_carries_the_hydrostatic_force_of_its_water():
     exact for a linear pressure, rho_f g W (H L - L^2 / 2) (clearance 0), all of it pushing +x (the water on the
     gate's -x side), none on the clamp."""
     spec = load_scene("antoci_gate_loaded")
-    v = spec.values
-    b = antoci_gate_loaded.build(v)
+    v = antoci_gate_loaded.layout_values(spec.values)
+    b = antoci_gate_loaded.build(spec.values)
     geometry = gate.effective_geometry(v)
     length, width = geometry["gate_free_length_m"], geometry["span_m"]
     height = gate.water_surface_z(v)
@@ -47,7 +47,7 @@ def test_both_twins_are_judged_against_the_same_fe_value():
     static = load_scene("antoci_gate_static").values
     loaded = load_scene("antoci_gate_loaded").values
     ref_static = gate.static_tip_reference(static, static["fluid.density"], 1.0)
-    ref_loaded = gate.static_tip_reference(loaded, loaded["geometry.water_density"], 1.0)
+    ref_loaded = gate.static_tip_reference(antoci_gate_loaded.layout_values(loaded), loaded["geometry.water_density"], 1.0)
     assert ref_static["fe_tip_deflection_m"] == pytest.approx(ref_loaded["fe_tip_deflection_m"], rel=1e-12)
     # about 5 % of the free length (linear), the continuum within 1 % of the beam
     length = gate.effective_geometry(static)["gate_free_length_m"]
@@ -79,7 +79,7 @@ def test_fe_is_read_where_the_probe_sits():
     """The 'tip' probe is the lowest particle layer, half a spacing above the body's free end: the FE reference is
     read there, which is less than at the end by about the end's slope times dp / 2 (slope 4/3 of the deflection
     over L for a uniform load; a little less under the hydrostatic one, which is smaller near the end)."""
-    v = load_scene("antoci_gate_loaded").values
+    v = antoci_gate_loaded.layout_values(load_scene("antoci_gate_loaded").values)
     dp = v["numerics.spacing"]
     length = gate.effective_geometry(v)["gate_free_length_m"]
     ref = gate.static_tip_reference(v, 1000.0, 1.0)

@@ -20,8 +20,11 @@ from .gate import sample  # noqa: F401  (builder interface)
 PHASES = ("solid",)
 CONSERVATIVE = False     # the load does work
 
-# the static gate's keys (the tank's stay: the same layout, whose water is left out), less the water's relaxation
-GEOMETRY = [p for p in _STATIC_GEOMETRY if p.key != "geometry.water_damping_ratio"] + [
+# the static gate's keys less the water's and the tank's (this scene has neither; layout_values fills them in for
+# gate.build, whose gate does not depend on them)
+_NOT_HERE = ("geometry.water_damping_ratio", "geometry.water_width", "geometry.downstream_length",
+             "geometry.wall_height", "geometry.wall_layers")
+GEOMETRY = [p for p in _STATIC_GEOMETRY if p.key not in _NOT_HERE] + [
     Param("geometry.water_density", 1000.0, "kg/m^3", "Density of the water whose hydrostatic pressure loads the gate",
           low=0.0, low_inclusive=False, high=1.0e5),
     Param("geometry.load_ramp_periods", 2.0, "1", "The load ramps in over this many periods of the gate's first "
@@ -31,25 +34,36 @@ GEOMETRY = [p for p in _STATIC_GEOMETRY if p.key != "geometry.water_damping_rati
 DEFAULTS = {k: v for k, v in _STATIC_DEFAULTS.items() if not k.startswith("fluid.")}
 
 
+_TWIN_TANK = {p.key: p.default for p in _STATIC_GEOMETRY if p.key in _NOT_HERE}
+
+
+def layout_values(values):
+    """The values gate.py's layout needs: the coupled twin's tank (its defaults; walls at least as high as the
+    water) and water at this density. Only the gate is kept, and the domain box is the twin's."""
+    return {**_TWIN_TANK, **values, "fluid.density": values["geometry.water_density"],
+            "geometry.wall_height": max(_TWIN_TANK["geometry.wall_height"], values["geometry.water_height"])}
+
+
 def check(values):
-    gate.check(values)
+    gate.layer_counts(layout_values(values))
 
 
 def build(values):
-    # the coupled twin's layout (its water at this density); only its gate is kept
-    full = gate.build({**values, "fluid.density": values["geometry.water_density"]})
+    v = layout_values(values)
+    full = gate.build(v)
     solid = full.solid
-    face, direction = gate.wet_face(values, solid.pos, solid.movable)
-    dp = values["numerics.spacing"]
-    depth = np.maximum(gate.water_surface_z(values) - solid.pos[face, 2], 0.0)
+    face, direction = gate.wet_face(v, solid.pos, solid.movable)
+    dp = v["numerics.spacing"]
+    depth = np.maximum(gate.water_surface_z(v) - solid.pos[face, 2], 0.0)
     load = np.zeros((solid.count, 3))     # N: the pressure on each wet particle's dp x dp of surface
-    load[face, 0] = direction * values["geometry.water_density"] * abs(values["scene.gravity"][2]) * depth * dp * dp
-    omega = gate.first_mode_omega(values)
+    load[face, 0] = direction * v["geometry.water_density"] * abs(v["scene.gravity"][2]) * depth * dp * dp
+    omega = gate.first_mode_omega(v)
     return Built(solid=solid, probes=full.probes, domain_lo=full.domain_lo, domain_hi=full.domain_hi,
                  period=full.period, clamp_mirror=full.clamp_mirror, solid_load=load,
-                 load_ramp_time=values["geometry.load_ramp_periods"] * 2.0 * math.pi / omega,
-                 damping_rate=2.0 * values["geometry.damping_ratio"] * omega)
+                 load_ramp_time=v["geometry.load_ramp_periods"] * 2.0 * math.pi / omega,
+                 damping_rate=2.0 * v["geometry.damping_ratio"] * omega)
 
 
 def evaluate(series, values):
-    return gate.evaluate_static(series, values, values["geometry.water_density"], abs(values["scene.gravity"][2]))
+    return gate.evaluate_static(series, layout_values(values), values["geometry.water_density"],
+                                abs(values["scene.gravity"][2]))
