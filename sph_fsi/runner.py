@@ -25,7 +25,7 @@ import time
 import traceback
 from collections import deque
 
-from sph_fsi_core.run import Run, headline, make_writable_dir
+from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
 
@@ -35,6 +35,7 @@ __all__ = ["Runner", "numbered", "EXIT_BAD_INPUT", "EXIT_DIVERGED"]
 
 EXIT_BAD_INPUT = 2
 EXIT_DIVERGED = 3
+PROGRESS_LOG_INTERVAL = 10.0   # s of wall time between progress lines in the log
 
 
 def numbered(path, n):
@@ -76,6 +77,7 @@ class Runner:
         # simulation-thread-only state
         self.run = None                         # the running sph_fsi_core.run.Run
         self.sim = None
+        self.progress = None                    # sph_fsi_core.run.Progress of the running simulation
         self._recordings = 0                    # recorders opened so far (numbers the files after a reset)
         self._runs = 0                          # runs built so far (numbers out_dir after a reset)
         self._out_dir = None                    # this run's out_dir, or None
@@ -304,6 +306,8 @@ class Runner:
         self._rate = 0.0
         self._rate_mark = None
         self._anchor = None
+        self.progress = Progress(run.sim)
+        self._progress_logged = time.monotonic()
         self.out.sync_topics(run.sim, self.settings["qos"])
         self.out.publish_walls(run.sim, self.settings["frame_id"])
         self._publish_frame()
@@ -357,6 +361,7 @@ class Runner:
         if self._rate_mark is None:
             self._rate_mark = (time.monotonic(), _steps(sim))
         done = 0
+        started = time.monotonic()
         while done < n and not run.at_end:
             if interruptible and self._interrupted():
                 break
@@ -366,6 +371,10 @@ class Runner:
             done += 1
             self._take_applies()
         now = time.monotonic()
+        self.progress.add(now - started)
+        if now - self._progress_logged >= PROGRESS_LOG_INTERVAL and not run.at_end:
+            self._progress_logged = now
+            self.log.info(self.progress.line(run.end))
         if now > self._rate_mark[0]:
             self._rate = (_steps(sim) - self._rate_mark[1]) / (now - self._rate_mark[0])
         self._rate_mark = (now, _steps(sim))
@@ -479,6 +488,10 @@ class Runner:
                   "moving_particles": str(sum(len(p[1]) for p in moving_particles(sim))),
                   "solid_steps": str(getattr(sim, "solid_steps", 0)),
                   "solid_dt": f"{getattr(sim, 'last_solid_dt', 0.0):.6g}"}
+        progress = self.progress.numbers(self._sync_end())
+        values.update(progress_percent=f"{progress['percent']:.3g}",
+                      eta_s=f"{progress['eta_s']:.4g}" if running and progress["eta_s"] is not None else "",
+                      particle_steps_per_second=f"{progress['particle_steps_per_second'] or 0.0:.6g}")
         if getattr(sim, "fluid", None) is not None:   # the density correction's last step
             values.update(iterations=f"{sim.last_density_iterations:d}",
                           density_error=f"{sim.last_density_error:.6g}", fluid_steps=str(sim.fluid_steps),

@@ -127,7 +127,7 @@ class RunLog:
             evaluation = sim.builder.evaluate(self.series(), sim.spec.values)
         solid_count = sim.solid.count if sim.solid is not None else 0
         fluid_count = sim.fluid.count if sim.fluid is not None else 0
-        particle_steps = solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
+        particle_steps = particle_steps_of(sim)
         fluid_particle_iterations = fluid_count * sim.fluid_iterations
         fluid_builds = sim.fluid_solver.builds if sim.fluid_solver is not None else 0
         spec = sim.spec
@@ -167,6 +167,44 @@ class RunLog:
             for r in self.rows:
                 writer.writerow([repr(float(v)) for v in r.values()])
         (out / "summary.json").write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
+
+
+def particle_steps_of(sim):
+    """Every solid particle (clamp included) per solid step plus every fluid particle per fluid step, so far."""
+    solid_count = sim.solid.count if sim.solid is not None else 0
+    fluid_count = sim.fluid.count if sim.fluid is not None else 0
+    return solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
+
+
+class Progress:
+    """How far a run is and how fast it goes, over the wall time spent stepping only (pauses do not count):
+    simulated time, percent of the end time, ETA and particle-steps/s. `add(seconds)` after each stretch of
+    stepping; `numbers(end)` and `line(end)` read it."""
+
+    def __init__(self, sim):
+        self.sim = sim
+        self.start_time = sim.time
+        self.start_steps = particle_steps_of(sim)
+        self.stepping_s = 0.0
+
+    def add(self, seconds):
+        self.stepping_s += seconds
+
+    def numbers(self, end):
+        sim, wall = self.sim, self.stepping_s
+        done = sim.time - self.start_time
+        percent = 100.0 * sim.time / end if end > 0 else 100.0
+        eta = wall * max(end - sim.time, 0.0) / done if done > 0 and wall > 0 else None
+        rate = (particle_steps_of(sim) - self.start_steps) / wall if wall > 0 else None
+        return {"sim_time": sim.time, "end_time": end, "percent": percent, "eta_s": eta,
+                "particle_steps_per_second": rate}
+
+    def line(self, end):
+        n = self.numbers(end)
+        eta = f"{n['eta_s']:.0f} s" if n["eta_s"] is not None else "-"
+        rate = f"{n['particle_steps_per_second'] / 1e6:.3g} M" if n["particle_steps_per_second"] else "-"
+        return (f"t = {n['sim_time']:.6g} of {n['end_time']:.6g} s ({n['percent']:.1f} %), ETA {eta}, "
+                f"{rate} particle-steps/s")
 
 
 def headline(summary):

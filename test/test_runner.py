@@ -179,3 +179,25 @@ def test_runner_imports_without_ros():
     repo = Path(__file__).resolve().parents[1]
     result = import_without_ros(repo, "sph_fsi_core", "sph_fsi.runner", "sph_fsi.parameters", "sph_fsi.ament")
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_progress_in_the_log_and_on_diagnostics(runner, monkeypatch):
+    """Every PROGRESS_LOG_INTERVAL of wall time the log says how far the run is (simulated time, percent, ETA,
+    particle-steps/s), and /diagnostics carries the same numbers; pauses do not count towards the rate."""
+    import sph_fsi.runner as runner_module
+    monkeypatch.setattr(runner_module, "PROGRESS_LOG_INTERVAL", 0.0)
+    out = runner.out
+    runner.change({"end_time": 0.004}, {}, runner.desired, set())
+    runner.pause(False)
+    wait_until(lambda: runner.status()[1] == "finished")
+    lines = [m for level, m in runner.out_log.lines if level == "info" and "particle-steps/s" in m]
+    assert lines, runner.out_log.lines
+    first = lines[0]       # after the first publish period: t = 1 ms of 4 ms
+    assert first.startswith(f"t = {accumulated(4):.6g} of 0.004 s (25.0 %), ETA ")
+    progress = runner.progress.numbers(0.004)
+    assert progress["percent"] == pytest.approx(100.0)
+    steps = runner.sim.solid.count * runner.sim.solid_steps
+    assert progress["particle_steps_per_second"] == pytest.approx(steps / runner.progress.stepping_s)
+    running = [v for level, message, v in out.diagnostics if message == "running"]
+    assert running and all({"progress_percent", "eta_s", "particle_steps_per_second"} <= set(v) for v in running)
+    assert any(float(v["progress_percent"]) == pytest.approx(25.0) for v in running)
