@@ -344,14 +344,9 @@ class Simulation:
             self._advance_solid(n, dt, self._prescribed_acceleration(self.time + 0.5 * duration))
             self.last_solid_dt, self.last_substeps = dt, n
             self.solid_steps += n
-            if self.damping_rate > 0.0:
-                self._damp_solid(duration)
         if self.fluid is not None:
             self._advance_fluid(duration)
-            if self.coupling is not None and self.damping_rate > 0.0:
-                self._damp_solid(duration)
-            if self.fluid_damping_rate > 0.0:
-                self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
+        self._relax(duration)
         self.time += duration
         self.outer_steps += 1
         self.watchdog.check()
@@ -367,11 +362,15 @@ class Simulation:
             ramp = 0.5 * (1.0 - math.cos(math.pi * t / self.load_ramp_time))
         return ramp * self.solid_load / self.solid.mass[:, None]
 
-    def _damp_solid(self, duration):
-        """Mass-proportional damping dv/dt = -c v over an outer step, taken exactly (v *= exp(-c duration)) between
-        outer steps: a relaxation that settles a statically loaded solid; its static state does not depend on c.
-        Scaling every velocity keeps a mirrored clamp's ghosts the odd image of the body."""
-        self.solid.vel *= math.exp(-self.damping_rate * duration)
+    def _relax(self, duration):
+        """The static cases' relaxation (Built.damping_rate, Built.fluid_damping_rate; 0 elsewhere, costing
+        nothing): dv/dt = -c v over the outer step just taken, taken exactly (v *= exp(-c duration)), for the solid
+        and for the water. It settles a statically loaded case; its rest state does not depend on c. Scaling every
+        solid velocity keeps a mirrored clamp's ghosts the odd image of the body."""
+        if self.damping_rate > 0.0:
+            self.solid.vel *= math.exp(-self.damping_rate * duration)
+        if self.fluid_damping_rate > 0.0:
+            self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
 
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
         wk, state = self.solid_work, SolidArrays.of(self.solid)

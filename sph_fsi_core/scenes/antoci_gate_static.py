@@ -19,7 +19,7 @@ against the exact hydrostatic force.
 """
 import math
 
-from . import gate
+from . import gate, tank
 from .antoci_gate import DEFAULTS as _ANTOCI_DEFAULTS
 from .gate import CONSERVATIVE, PHASES, sample, sample_fluid  # noqa: F401  (builder interface)
 
@@ -37,16 +37,12 @@ def check(values):
     gate.check(values)
 
 
-def breathing_period(values):
-    """T_b = 4 H / sqrt(g H / tolerance), s (scenes/hydrostatic_plate.py)."""
-    height, g = gate.water_surface_z(values), abs(values["scene.gravity"][2]) or 9.81
-    return 4.0 * height / math.sqrt(g * height / values["fluid.density_tolerance"])
-
-
 def build(values):
     built = gate.build(values)
     built.damping_rate = 2.0 * values["geometry.damping_ratio"] * gate.first_mode_omega(values)
-    built.fluid_damping_rate = 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / breathing_period(values)
+    period = tank.breathing_period(gate.water_surface_z(values), values["scene.gravity"],
+                                   values["fluid.density_tolerance"])
+    built.fluid_damping_rate = 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / period
     return built
 
 

@@ -117,12 +117,7 @@ def build(values):
     load = np.zeros((len(pos), 3))
     load[top, 2] = -pressure_at(values, pos[top, 0]) * dp * dp     # N: the pressure on its dp x dp of surface
 
-    near_mid = (np.abs(pos[:, 0] - 0.5 * span) < 0.51 * dp) & (np.abs(pos[:, 2] - 0.5 * nz * dp) < 0.51 * dp)
-    mid = np.flatnonzero(near_mid & movable)
-    probes = [Probe("midspan", "solid", mid, pos[mid].mean(axis=0))]
-
-    mirror = np.maximum(clamp_mirror_across(pos, movable & (pos[:, 0] < 0.5 * span), 0, 0.0, dp),
-                        clamp_mirror_across(pos, movable & (pos[:, 0] > 0.5 * span), 0, span, dp))
+    probes, mirror = midspan_probe_and_mirror(pos, movable, span, nz * dp, dp)
     margin = 0.5 * span + 10 * dp
     lo = np.array([-margin, -dp, -margin])
     hi = np.array([span + margin, (ny + 1) * dp, values["geometry.thickness"] + margin])
@@ -131,6 +126,17 @@ def build(values):
                  clamp_mirror=mirror, solid_load=load,
                  load_ramp_time=values["geometry.load_ramp_periods"] * 2.0 * math.pi / omega,
                  damping_rate=2.0 * values["geometry.damping_ratio"] * omega)
+
+
+def midspan_probe_and_mirror(pos, movable, span, thickness, dp):
+    """The plate's 'midspan' probe (the movable particles nearest mid-span and mid-thickness) and the mirrored
+    clamp's map (each clamp particle's image across its own clamp face, x = 0 or x = span)."""
+    near_mid = (np.abs(pos[:, 0] - 0.5 * span) < 0.51 * dp) & (np.abs(pos[:, 2] - 0.5 * thickness) < 0.51 * dp)
+    mid = np.flatnonzero(near_mid & movable)
+    probes = [Probe("midspan", "solid", mid, pos[mid].mean(axis=0))]
+    mirror = np.maximum(clamp_mirror_across(pos, movable & (pos[:, 0] < 0.5 * span), 0, 0.0, dp),
+                        clamp_mirror_across(pos, movable & (pos[:, 0] > 0.5 * span), 0, span, dp))
+    return probes, mirror
 
 
 def block_means(x, blocks=3):

@@ -235,9 +235,6 @@ def static_tip_reference(values, water_density, gravity):
     fe = cantilever_strip_fe_deflection(length, thickness, values["solid.young_modulus"],
                                         values["solid.poisson_ratio"], pressure,
                                         values["solid.density"] * gravity, element_size=0.25 * dp, probe_x=probe)
-    end = cantilever_strip_fe_deflection(length, thickness, values["solid.young_modulus"],
-                                         values["solid.poisson_ratio"], pressure,
-                                         values["solid.density"] * gravity, element_size=0.25 * dp)
     # Euler-Bernoulli with a distributed load q(s): w(x) = integral q(s) G(x, s) ds, G(x, s) = s^2 (3 x - s) / (6 D)
     # for s <= x and x^2 (3 s - x) / (6 D) beyond, s and x from the clamp
     nu = values["solid.poisson_ratio"]
@@ -246,7 +243,7 @@ def static_tip_reference(values, water_density, gravity):
     green = np.where(s <= probe, s * s * (3.0 * probe - s), probe * probe * (3.0 * s - probe)) / (6.0 * rigidity)
     integrand = pressure(s) * green
     beam = float(np.sum(0.5 * (integrand[1:] + integrand[:-1]) * np.diff(s)))
-    return {"fe_tip_deflection_m": fe["tip_deflection_m"], "fe_free_end_deflection_m": end["tip_deflection_m"],
+    return {"fe_tip_deflection_m": fe["tip_deflection_m"], "fe_free_end_deflection_m": fe["free_end_deflection_m"],
             "beam_tip_deflection_m": beam, "probe_from_clamp_m": probe, "fe_elements": list(fe["elements"])}
 
 

@@ -31,9 +31,9 @@ import math
 import numpy as np
 
 from ..schema import Param, SceneError
-from ..state import FluidState, Probe, SolidState, WallState
+from ..state import FluidState, SolidState, WallState
 from . import clamped_plate, tank
-from .built import Built, clamp_mirror_across
+from .built import Built
 
 PHASES = ("solid", "fluid", "walls", "coupling")
 CONSERVATIVE = False     # gravity does work as the water settles
@@ -72,7 +72,7 @@ def layer_counts(values):
     """The plate's (clamped_plate.layer_counts) and the water's and walls' layer counts."""
     c = clamped_plate.layer_counts(values)
     dp = values["numerics.spacing"]
-    c["nh"] = clamped_plate._layers(values["geometry.water_height"], dp, "geometry.water_height", 2)
+    c["nh"] = tank.whole_layers(values["geometry.water_height"], dp, "geometry.water_height", at_least=2)
     c["nw"] = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
     return c
 
@@ -105,28 +105,18 @@ def build(values):
     walls = np.concatenate([side, side + np.array([span + layers * dp, 0.0, 0.0])])
     wall_state = WallState.lattice(walls, rho0, dp, mass_scale=scale)
 
-    near_mid = (np.abs(plate[:, 0] - 0.5 * span) < 0.51 * dp) & (np.abs(plate[:, 2] - 0.5 * thickness) < 0.51 * dp)
-    mid = np.flatnonzero(near_mid & movable)
-    probes = [Probe("midspan", "solid", mid, plate[mid].mean(axis=0))]
-    mirror = np.maximum(clamp_mirror_across(plate, movable & (plate[:, 0] < 0.5 * span), 0, 0.0, dp),
-                        clamp_mirror_across(plate, movable & (plate[:, 0] > 0.5 * span), 0, span, dp))
+    probes, mirror = clamped_plate.midspan_probe_and_mirror(plate, movable, span, thickness, dp)
     margin = 0.25 * span + 10 * dp
     reach = max(nc, layers) * dp
     lo = np.array([-reach - margin, 0.0, -margin])
     hi = np.array([span + reach + margin, ny * dp, thickness + nw * dp + margin])
     omega = clamped_plate.first_mode_omega(values)
-    omega_water = 2.0 * math.pi / breathing_period(values)
+    omega_water = 2.0 * math.pi / tank.breathing_period(values["geometry.water_height"], values["scene.gravity"],
+                                                        values["fluid.density_tolerance"])
     return Built(solid=solid, fluid=fluid, walls=wall_state, probes=probes, domain_lo=lo, domain_hi=hi,
                  period=np.array([0.0, ny * dp, 0.0]), clamp_mirror=mirror,
                  damping_rate=2.0 * values["geometry.damping_ratio"] * omega,
                  fluid_damping_rate=2.0 * values["geometry.water_damping_ratio"] * omega_water)
-
-
-def breathing_period(values):
-    """T_b = 4 H / c_b, c_b = sqrt(g H / tolerance): the column's first mode as a quarter-wave resonator whose
-    compressibility is what the density tolerance allows (module docstring), s."""
-    height, g = values["geometry.water_height"], abs(values["scene.gravity"][2]) or 9.81
-    return 4.0 * height / math.sqrt(g * height / values["fluid.density_tolerance"])
 
 
 def sample_fluid(sim):

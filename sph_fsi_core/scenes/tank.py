@@ -31,6 +31,15 @@ def lattice_density_scale(smoothing_ratio):
     return 1.0 / lattice_kernel_sum(smoothing_ratio)
 
 
+def breathing_period(height, gravity, tolerance):
+    """T_b = 4 H / c_b, c_b = sqrt(g H / tolerance), s: a column's first mode as a quarter-wave resonator whose
+    compressibility is what the density tolerance allows (the density correction acts only above it). It sets
+    the water's relaxation rate in the static cases (scenes/hydrostatic_plate.py, antoci_gate_static.py); without
+    gravity, 9.81 m/s^2 (the rate only shortens the way to rest)."""
+    g = math.sqrt(sum(x * x for x in gravity)) or 9.81
+    return 4.0 * height / math.sqrt(g * height / tolerance)
+
+
 def whole_layers(extent, spacing, key, at_least=1):
     """Number of lattice layers in `extent`, or SceneError if it is not a whole number of spacings."""
     n = extent / spacing

@@ -303,8 +303,9 @@ def cantilever_strip_fe_deflection(length, thickness, young_modulus, poisson_rat
     from the clamp) on one face, pushing across the strip, and a body force `body_force_along` (N/m^3) along it
     (a hanging gate's own weight). Same elements as clamped_plate_fe_deflection. Read at mid-thickness, at
     x = `probe_x` from the clamp (default: the free end), which must be a node (a multiple of element_size / 2).
-    Returns a dict: tip_deflection_m (across the strip, along the pressure: positive), tip_axial_m (along the
-    strip, + away from the clamp), probe_x_m, elements, dofs, solve_time_s."""
+    Returns a dict: tip_deflection_m (across the strip, along the pressure: positive, at probe_x), tip_axial_m
+    (along the strip, + away from the clamp, at probe_x), free_end_deflection_m (at the free end, mid-thickness),
+    probe_x_m, elements, dofs, solve_time_s."""
     import numpy as np
     u, basis, _, _, _, counts, seconds = _strip_static(
         length, thickness, young_modulus, poisson_ratio, _as_function(face_pressure), (body_force_along, 0.0), False,
@@ -315,5 +316,6 @@ def cantilever_strip_fe_deflection(length, thickness, young_modulus, poisson_rat
         raise ValueError(f"probe_x = {x:g} m at mid-thickness is not a node of the mesh; allowed: a multiple of "
                          f"element_size / 2")
     ux, uz = _displacement_at(u, basis, x, 0.5 * thickness)
-    return {"tip_deflection_m": -uz, "tip_axial_m": ux, "probe_x_m": x, "elements": counts, "dofs": int(basis.N),
-            "solve_time_s": seconds}
+    return {"tip_deflection_m": -uz, "tip_axial_m": ux,
+            "free_end_deflection_m": -_displacement_at(u, basis, length, 0.5 * thickness)[1], "probe_x_m": x,
+            "elements": counts, "dofs": int(basis.N), "solve_time_s": seconds}

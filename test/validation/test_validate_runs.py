@@ -5,7 +5,8 @@ from sph_fsi_core.validation import ladder as validation
 from sph_fsi_core.validation.cases import Rung
 
 
-def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch):
+def fake_runs(monkeypatch, summary):
+    """Replace running a rung by writing `summary` as its summary.json; returns the keys run, in order."""
     calls = []
 
     def fake_run(args):
@@ -13,10 +14,15 @@ def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch
         calls.append(rung.key)
         d = validation.rung_dir(out_dir, rung)
         d.mkdir(parents=True)
-        (d / "summary.json").write_text(json.dumps({"stable": True, "error": 0.01}))
+        (d / "summary.json").write_text(json.dumps(summary))
         return {"stable": True}
 
     monkeypatch.setattr(validation, "run_rung", fake_run)
+    return calls
+
+
+def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch):
+    calls = fake_runs(monkeypatch, {"stable": True, "error": 0.01})
     a = Rung("ladder", "H4", "cantilever", {"numerics.spacing": 0.001}, periods=2.25)
     b = Rung("length", "L40", "cantilever", {"numerics.spacing": 0.001}, periods=2.25)
     c = Rung("length", "L60", "cantilever", {"geometry.length": 0.06}, periods=2.25)
@@ -71,17 +77,7 @@ def test_report_names_its_command_and_separates_load_transfer_from_bending(tmp_p
 
 def test_missing_runs_only_the_rungs_without_a_summary(tmp_path, monkeypatch):
     """`sph-fsi validate --missing` finishes a stopped ladder: rungs with a summary.json are not run again."""
-    calls = []
-
-    def fake_run(args):
-        rung, out_dir = args
-        calls.append(rung.key)
-        d = validation.rung_dir(out_dir, rung)
-        d.mkdir(parents=True, exist_ok=True)
-        (d / "summary.json").write_text(json.dumps(_summary(error=0.01)))
-        return {"stable": True}
-
-    monkeypatch.setattr(validation, "run_rung", fake_run)
+    calls = fake_runs(monkeypatch, _summary(error=0.01))
     rungs = [r for r in validation.all_rungs() if r.case == "gate_static"]
     done = validation.rung_dir(tmp_path, rungs[0])
     done.mkdir(parents=True)
