@@ -111,6 +111,8 @@ def _check_writable_file(option, path):
 
 
 def _cmd_run(args):
+    import time
+    from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, kernels_cached
     from sph_fsi_core.run import Interrupted, run_scene
     from sph_fsi_core.scene import load_scene
     spec = load_scene(args.scene, args.set or [])
@@ -124,10 +126,18 @@ def _cmd_run(args):
     recording = bool(mcap or rrd or args.rerun_connect)
     print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) to t = {spec['scene.end_time']:g} s "
           f"into {out}/", file=sys.stderr)
-    state = {"rec": None, "sim": None, "stats": None}
+    state = {"rec": None, "sim": None, "stats": None, "samples": 0}
+    started = time.perf_counter()
+    cold = kernels_cached(spec.phases) is False
+    if cold:
+        print(f"sph-fsi: {COMPILING_LINE}", file=sys.stderr)
     with _Signals() as signals:
         def on_sample(sim, row):
             state["sim"] = sim
+            state["samples"] += 1
+            if cold and state["samples"] == 2:   # the first call is the initial state, the second the first step
+                print(f"sph-fsi: compiled and took the first step in {time.perf_counter() - started:.0f} s",
+                      file=sys.stderr)
             signals.check()
 
         class ClosingRecorder:

@@ -25,6 +25,7 @@ import time
 import traceback
 from collections import deque
 
+from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, kernels_cached
 from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
@@ -291,6 +292,10 @@ class Runner:
         self.out.scene_changed(desired)
 
     def _build(self, spec):
+        started = time.monotonic()
+        cold = kernels_cached(spec.phases) is False
+        if cold:
+            self.log.info(COMPILING_LINE)
         run = Run(spec)
         self._close_recorders("reset")
         self._write_summary("reset")
@@ -308,6 +313,7 @@ class Runner:
         self._anchor = None
         self.progress = Progress(run.sim)
         self._progress_logged = time.monotonic()
+        self._compiling_since = started if cold else None   # until the first outer step is done
         self.out.sync_topics(run.sim, self.settings["qos"])
         self.out.publish_walls(run.sim, self.settings["frame_id"])
         self._publish_frame()
@@ -371,7 +377,14 @@ class Runner:
             done += 1
             self._take_applies()
         now = time.monotonic()
-        self.progress.add(now - started)
+        if self._compiling_since is not None and done:
+            # the first step carried the compilation: say how long it took, and keep it out of the rate and ETA
+            self.log.info(f"compiled and took the first step in {now - self._compiling_since:.0f} s")
+            self._compiling_since = None
+            self.progress = Progress(sim)
+            self._progress_logged = now
+        else:
+            self.progress.add(now - started)
         if now - self._progress_logged >= PROGRESS_LOG_INTERVAL and not run.at_end:
             self._progress_logged = now
             self.log.info(self.progress.line(run.end))

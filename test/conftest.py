@@ -22,3 +22,11 @@ def pytest_configure(config):
 
 def pytest_collection_modifyitems(items):
     items.sort(key=_rank)   # stable: the order within a file and among the rest is kept
+
+
+def pytest_sessionstart(session):
+    """On-demand FE references (references.fe3d_frequency) go to a cache of the test session's own, not the
+    user's: a test sees the committed tables and what it computes itself."""
+    import os
+    import tempfile
+    os.environ["SPH_FSI_CACHE"] = tempfile.mkdtemp(prefix="sph_fsi_test_cache_")

@@ -181,6 +181,31 @@ def test_runner_imports_without_ros():
     assert result.returncode == 0, result.stdout + result.stderr
 
 
+def test_cold_cache_says_compiling_and_keeps_it_out_of_the_rate(tmp_path, monkeypatch):
+    """With Numba's cache cold (here: said so) the runner logs that it compiles before the build, then how long the
+    build and first step took, and starts its progress (rate, ETA) after that step."""
+    import sph_fsi.runner as runner_module
+    from sph_fsi_core.numerics.jit_cache import COMPILING_LINE
+    monkeypatch.setattr(runner_module, "kernels_cached", lambda phases: False)
+    settings = dict(node_defaults(), publish_period=PERIOD, out_dir=str(tmp_path / "run"))
+    out, log = FakeOut(), Log()
+    r = Runner(load_scene("cantilever", SMALL), settings, out, log)
+    r.pause(True)
+    r.start()
+    try:
+        wait_until(lambda: len(out.frames) == 1)
+        assert log.lines[0] == ("info", COMPILING_LINE)
+        r.request_step()
+        wait_until(lambda: any("compiled and took the first step in" in m for _, m in log.lines))
+        assert r.progress.stepping_s == 0.0 and r.progress.start_time == pytest.approx(r.sim.time)
+        assert r.sim.time > 0.0
+        r.request_step()
+        wait_until(lambda: r.progress.stepping_s > 0.0)
+        assert sum("compiled and took" in m for _, m in log.lines) == 1
+    finally:
+        r.stop()
+
+
 def test_progress_in_the_log_and_on_diagnostics(runner, monkeypatch):
     """Every PROGRESS_LOG_INTERVAL of wall time the log says how far the run is (simulated time, percent, ETA,
     particle-steps/s), and /diagnostics carries the same numbers; pauses do not count towards the rate."""

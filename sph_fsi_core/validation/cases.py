@@ -22,10 +22,33 @@ class Rung:
 
 
 def cantilever_end_time(overrides, periods):
+    """`periods` periods of the 3D reference frequency of the beam the overrides make (the scene's defaults else)."""
     from .references import cantilever_references
-    length = overrides.get("geometry.length", 0.04)
-    refs = cantilever_references(length, 0.004, 0.006, 1.859e6, 0.49, 1000.0)
+    beam = {"geometry.length": 0.04, "geometry.thickness": 0.004, "geometry.width": 0.006,
+            "solid.young_modulus": 1.859e6, "solid.poisson_ratio": 0.49, "solid.density": 1000.0}
+    beam.update({k: v for k, v in overrides.items() if k in beam})
+    refs = cantilever_references(*beam.values())
     return periods / refs["reference_hz"]
+
+
+# The default scheme's cantilever over shapes and materials (the verification issue's item 4): quadratic_gradient
+# with the mirrored clamp at 4 particles through the paper's 4 x 6 mm section (dp = 1 mm), nu = 0.3, 0.4, 0.49 and
+# L / H = 10, 20, 30, each judged against the project's 3D FE for its own shape and nu
+# (reference_data/cantilever_fe3d_nondimensional.csv). The cost grows as (L / H)^3 and with the bulk sound speed
+# (nu = 0.49's step is 3.6x nu = 0.3's): the nu = 0.49, L / H = 30 rung is the long one (~40 min on 2 threads).
+CANTILEVER_SHAPE_POISSON = (0.3, 0.4, 0.49)
+CANTILEVER_SHAPE_SLENDERNESS = (10, 20, 30)
+
+
+def _cantilever_shape_rungs():
+    rungs = []
+    for nu in CANTILEVER_SHAPE_POISSON:
+        for ratio in CANTILEVER_SHAPE_SLENDERNESS:
+            overrides = {"geometry.length": ratio * 0.004, "solid.poisson_ratio": nu, "solid.clamp": "mirrored"}
+            rungs.append(Rung("cantilever_shapes", f"nu{nu:g}_L_over_H_{ratio}", "cantilever", overrides,
+                              periods=2.25, quick=(nu == 0.3 and ratio == 10), bound=0.015,
+                              note=f"L / H = {ratio}, nu = {nu:g}, 4 particles through, solid.clamp = mirrored"))
+    return rungs
 
 
 def _cantilever_rungs():
@@ -221,12 +244,12 @@ def _gate_static_rungs():
     return rungs
 
 
-CANTILEVER_CASES = ("cantilever", "cantilever_ladder", "cantilever_length", "cantilever_plain",
+CANTILEVER_CASES = ("cantilever", "cantilever_ladder", "cantilever_length", "cantilever_shapes", "cantilever_plain",
                     "cantilever_plain_ladder", "cantilever_plain_length", "cantilever_paper_scheme")
 
 
 def all_rungs():
-    return (_cantilever_rungs() + _solid_static_rungs() + _hydrostatic_plate_rungs() + _fluid_rungs()
+    return (_cantilever_rungs() + _cantilever_shape_rungs() + _solid_static_rungs() + _hydrostatic_plate_rungs() + _fluid_rungs()
             + _gate_rungs() + _gate_static_rungs())
 
 

@@ -1,7 +1,8 @@
 """Analytic and experimental references the scenes are judged against.
 
 Data files live in `reference_data/` (copies of the project's shared reference set, each with its source in its
-header; test_scene.py checks the copies against the originals when those are present).
+header; test_scene.py checks the copies against the originals when those are present), and one table the project
+computes itself, cantilever_fe3d_nondimensional.csv (its header says how).
 """
 import csv
 import io
@@ -63,26 +64,88 @@ def plate_frequency_eq15(length, thickness, young_modulus, poisson_ratio, densit
 # The geometry and material of reference_data/cantilever_frequencies.csv (its header).
 _FE_TABLE_CASE = dict(thickness=0.004, width=0.006, young_modulus=1.859e6, poisson_ratio=0.49, density=1000.0)
 
+# The project's 3D FE for other shapes and Poisson ratios, as f H / sqrt(E / rho) (cantilever_fe_table.py writes
+# it); shapes it does not list are computed on demand and kept in FE3D_CACHE_FILE under the user's cache directory.
+FE3D_TABLE = "cantilever_fe3d_nondimensional.csv"
+FE3D_TABLE_COLUMNS = ("length_over_thickness", "width_over_thickness", "poisson_ratio", "frequency_nondimensional",
+                      "order", "mesh_frequencies")
+FE3D_CACHE_FILE = "cantilever_fe3d_nondimensional.csv"
 
-def fe3d_frequency(length, thickness, width, young_modulus, poisson_ratio, density):
-    """3D linear-elasticity first vertical bending frequency from cantilever_frequencies.csv, or (None, why).
 
-    The table is for one cross-section, nu and E/rho; frequencies of a linear elastic body scale exactly as
-    sqrt(E/rho) at fixed geometry and nu, so other E and rho are scaled. L = 40 mm uses the mesh-extrapolated
-    value; other lengths the 1 mm quadratic-hexahedron value (about 0.5 % high at L = 40 mm, per the file).
+def format_fe3d_row(length_over_thickness, width_over_thickness, poisson_ratio, result):
+    """One line of the nondimensional table from a fe_reference.cantilever_fe_nondimensional result."""
+    meshes = " ".join(f"{f:.10g}" for f in result["mesh_frequencies"])
+    return (f"{length_over_thickness:.10g},{width_over_thickness:.10g},{poisson_ratio:.10g},"
+            f"{result['frequency']:.10g},{result['order']:.4g},{meshes}")
+
+
+def fe3d_cache_dir():
+    """$SPH_FSI_CACHE, else $XDG_CACHE_HOME/sph_fsi, else ~/.cache/sph_fsi."""
+    import os
+    if os.environ.get("SPH_FSI_CACHE"):
+        return Path(os.environ["SPH_FSI_CACHE"])
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "sph_fsi"
+
+
+def _nondimensional_rows(path):
+    if not path.is_file():
+        return []
+    lines = [ln for ln in path.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+    rows = []
+    for row in csv.DictReader(io.StringIO("\n".join(lines))):
+        rows.append((float(row["length_over_thickness"]), float(row["width_over_thickness"]),
+                     float(row["poisson_ratio"]), float(row["frequency_nondimensional"])))
+    return rows
+
+
+def _lookup(rows, shape):
+    for *key, value in rows:
+        if all(abs(k - s) <= 1e-9 * max(1.0, abs(s)) for k, s in zip(key, shape)):
+            return value
+    return None
+
+
+def fe3d_frequency(length, thickness, width, young_modulus, poisson_ratio, density, compute=True):
+    """3D linear-elasticity first vertical bending frequency of the clamped-free beam (Hz) and its source, or
+    (None, why).
+
+    In order: the paper's beam from cantilever_frequencies.csv (its mesh-extrapolated value, as published); the
+    project's nondimensional table (FE3D_TABLE, extrapolated meshes H/2, H/4, H/6); the user's cache; else, with
+    `compute`, cantilever_fe_nondimensional now (seconds to minutes, scikit-fem and scipy), kept in the cache.
+    Frequencies of a linear elastic body scale exactly as sqrt(E / rho) / H at fixed shape and nu.
     """
-    same = (abs(thickness - _FE_TABLE_CASE["thickness"]) < 1e-9 and abs(width - _FE_TABLE_CASE["width"]) < 1e-9
-            and abs(poisson_ratio - _FE_TABLE_CASE["poisson_ratio"]) < 1e-9)
-    if not same:
-        return None, "no 3D reference for this cross-section / Poisson ratio"
-    for row in read_reference_csv("cantilever_frequencies.csv"):
-        if abs(row["L_mm"] * 1e-3 - length) < 1e-9:
-            scale = math.sqrt((young_modulus / density)
-                              / (_FE_TABLE_CASE["young_modulus"] / _FE_TABLE_CASE["density"]))
-            if row["fe3d_extrapolated_Hz"] is not None:
-                return row["fe3d_extrapolated_Hz"] * scale, "fe3d_extrapolated"
-            return row["fe3d_1mm_Hz"] * scale, "fe3d_1mm"
-    return None, "no 3D reference for this length"
+    scale = math.sqrt(young_modulus / density) / thickness
+    paper = (abs(thickness - _FE_TABLE_CASE["thickness"]) < 1e-9 and abs(width - _FE_TABLE_CASE["width"]) < 1e-9
+             and abs(poisson_ratio - _FE_TABLE_CASE["poisson_ratio"]) < 1e-9)
+    if paper:
+        for row in read_reference_csv("cantilever_frequencies.csv"):
+            if abs(row["L_mm"] * 1e-3 - length) < 1e-9 and row["fe3d_extrapolated_Hz"] is not None:
+                ratio = math.sqrt((young_modulus / density)
+                                  / (_FE_TABLE_CASE["young_modulus"] / _FE_TABLE_CASE["density"]))
+                return row["fe3d_extrapolated_Hz"] * ratio, "fe3d_extrapolated"
+    shape = (length / thickness, width / thickness, poisson_ratio)
+    value = _lookup(_nondimensional_rows(DATA_DIR / FE3D_TABLE), shape)
+    if value is not None:
+        return value * scale, "fe3d_extrapolated"
+    cache = fe3d_cache_dir() / FE3D_CACHE_FILE
+    value = _lookup(_nondimensional_rows(cache), shape)
+    if value is not None:
+        return value * scale, "fe3d_extrapolated (computed, cached)"
+    if not compute:
+        return None, "no 3D reference for this shape and Poisson ratio (not computed)"
+    try:
+        from .fe_reference import cantilever_fe_nondimensional
+        result = cantilever_fe_nondimensional(*shape)
+    except (ImportError, ValueError) as exc:
+        return None, f"no 3D reference: {exc}"
+    cache.parent.mkdir(parents=True, exist_ok=True)
+    if not cache.is_file():
+        cache.write_text(f"# {FE3D_TABLE}'s columns, computed on demand by sph_fsi\n"
+                         + ",".join(FE3D_TABLE_COLUMNS) + "\n")
+    with cache.open("a") as fh:
+        fh.write(format_fe3d_row(*shape, result) + "\n")
+    return result["frequency"] * scale, "fe3d_extrapolated (computed)"
 
 
 def cantilever_references(length, thickness, width, young_modulus, poisson_ratio, density):
