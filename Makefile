@@ -1,7 +1,8 @@
 # sph_fsi: build, run and test from a local virtual environment.
-#   make run       create .venv, install everything pinned, run the ROS 2 node on the paper's elastic gate
-#                  (2 mm, pressure coupling: about a minute), recording MCAP + Rerun into runs/, its summary and
-#                  time series into runs/elastic_gate/, exit at the end
+#   make run       create .venv, install everything pinned, run the ROS 2 node on the paper's elastic gate at the
+#                  paper's 1 mm (the default scheme: 15-30 minutes on 2 cores, a progress line every 10 s),
+#                  recording MCAP + Rerun into runs/, its summary and time series into runs/elastic_gate/, exit at
+#                  the end. A quick look: make run NODE_PARAMS="-p numerics.spacing:=0.002 -p solid.scheme:=gray2001"
 #   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT
 #   make test      same install, then the test suite
 #   make test-fast same install, then the suite without the tests marked slow (`-m "not slow"`: no validation
@@ -43,7 +44,7 @@ $(STAMP): requirements.txt requirements-dev.txt setup.py setup.cfg package.xml $
 install: $(STAMP)
 
 NODE_SCENE ?= elastic_gate
-NODE_PARAMS ?= -p numerics.spacing:=0.002
+NODE_PARAMS ?=
 
 run: install
 	mkdir -p runs

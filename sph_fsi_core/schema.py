@@ -143,7 +143,8 @@ SOLID = [
        high=0.5, high_inclusive=False, rebuild=False),
     _p("solid.scheme", DEFAULT_SCHEME, "",
        "The solid's named scheme: one word for a validated combination of solid.velocity_gradient, "
-       "solid.nodal_integration, solid.artificial_stress_epsilon and solid.cfl; each of those set explicitly "
+       "solid.nodal_integration, solid.artificial_stress_epsilon, solid.cfl and solid.clamp; each of those set "
+       "explicitly "
        "overrides its scheme's value. "
        + "; ".join(f"'{s.name}' ({expansion_text(s.name)}): {s.summary}" for s in SCHEMES.values())
        + ". Which cases validated each, with which error: docs/method.md, 'Solid schemes'",
@@ -169,11 +170,11 @@ SOLID = [
        "1e-4 with solid.nodal_integration = gradient); a stale fit leaks rotation into the fitted curvature and "
        "locks energy in self-balanced stress (docs/method.md, 'Strain-gradient nodal integration')", low=0.0,
        high=1.0, rebuild=False),
-    _p("solid.clamp", "fixed", "",
+    _p("solid.clamp", _by_scheme("solid.clamp"), "",
        "How the clamp holds the body: 'fixed' clamp particles at rest carrying stress (the paper's; the body bends "
        "as if up to half a spacing longer), 'mirrored' clamp particles moving as the odd mirror image of the body "
        "across the clamp face, so the velocity vanishes on the face itself (small deflections near the clamp "
-       "only; docs/method.md)", kind="str",
+       "only; docs/method.md)" + _SET_BY_SCHEME, kind="str",
        choices=("fixed", "mirrored")),
     _p("solid.artificial_viscosity_alpha", 0.1, "1", "Monaghan artificial viscosity alpha (linear term)", low=0.0,
        high=10.0, rebuild=False),

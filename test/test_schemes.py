@@ -17,21 +17,18 @@ REPO = Path(__file__).resolve().parents[1]
 # that would change the validated runs shows up as a failing test, not as a silent change of results.
 DOCUMENTED = {
     "quadratic_gradient": {"solid.velocity_gradient": "quadratic", "solid.nodal_integration": "gradient",
-                           "solid.artificial_stress_epsilon": 0.0, "solid.cfl": 0.25},
+                           "solid.artificial_stress_epsilon": 0.0, "solid.cfl": 0.25, "solid.clamp": "mirrored"},
     "quadratic_plain": {"solid.velocity_gradient": "quadratic", "solid.nodal_integration": "plain",
-                        "solid.artificial_stress_epsilon": 0.0, "solid.cfl": 0.25},
+                        "solid.artificial_stress_epsilon": 0.0, "solid.cfl": 0.25, "solid.clamp": "fixed"},
     "quadratic_plain_artificial_stress": {"solid.velocity_gradient": "quadratic", "solid.nodal_integration": "plain",
-                                          "solid.artificial_stress_epsilon": 0.15, "solid.cfl": 0.25},
+                                          "solid.artificial_stress_epsilon": 0.15, "solid.cfl": 0.25,
+                                          "solid.clamp": "fixed"},
     "gray2001": {"solid.velocity_gradient": "sph", "solid.nodal_integration": "plain",
-                 "solid.artificial_stress_epsilon": 0.15, "solid.cfl": 0.5},
+                 "solid.artificial_stress_epsilon": 0.15, "solid.cfl": 0.5, "solid.clamp": "fixed"},
 }
-# the scheme each built-in scene with a solid was validated with
-SCENE_SCHEMES = {"cantilever": "quadratic_gradient", "elastic_gate": "gray2001",
-                 "antoci_gate": "quadratic_plain_artificial_stress", "clamped_plate": "quadratic_gradient",
-                 "hydrostatic_plate": "quadratic_gradient",
-                 # Antoci's gate held static runs the dynamic scene's scheme: they measure that scheme's error
-                 "antoci_gate_static": "quadratic_plain_artificial_stress",
-                 "antoci_gate_loaded": "quadratic_plain_artificial_stress"}
+# the scheme each built-in scene with a solid runs: the default, every scene's (the verification issue's item 4)
+SCENE_SCHEMES = {name: DEFAULT_SCHEME for name in ("cantilever", "elastic_gate", "antoci_gate", "clamped_plate",
+                                                   "hydrostatic_plate", "antoci_gate_static", "antoci_gate_loaded")}
 SMALL_BEAM = [("geometry.length", 0.004)]
 
 
@@ -92,9 +89,9 @@ def test_an_explicit_detailed_key_beats_the_scheme(tmp_path):
     spec2 = load_scene(_write(tmp_path / "other", "solid:\n  artificial_stress_epsilon: 0.0\n  scheme: gray2001\n"))
     assert spec2.values == spec.values
     # by --set, over the file's scheme
-    spec = load_scene("elastic_gate", ["solid.cfl=0.25"])
-    assert spec["solid.scheme"] == "gray2001" and spec["solid.cfl"] == 0.25
-    assert spec["solid.velocity_gradient"] == "sph"
+    spec = load_scene("elastic_gate", ["solid.cfl=0.3"])
+    assert spec["solid.scheme"] == "quadratic_gradient" and spec["solid.cfl"] == 0.3
+    assert spec["solid.velocity_gradient"] == "quadratic" and spec["solid.clamp"] == "mirrored"
     # a detailed key in the file survives a scheme given by --set
     spec = load_scene(path, ["solid.scheme=quadratic_plain"])
     assert spec["solid.artificial_stress_epsilon"] == 0.0
@@ -153,11 +150,11 @@ def test_builders_set_a_scheme_not_its_keys():
 
 def test_a_new_scheme_through_with_overrides_is_expanded_again_under_the_explicit_keys():
     spec = load_scene("elastic_gate")
-    assert _scheme_values(spec) == DOCUMENTED["gray2001"]
+    assert _scheme_values(spec) == DOCUMENTED["quadratic_gradient"]
     plain = spec.with_overrides({"solid.scheme": "quadratic_plain"})
     assert _scheme_values(plain) == DOCUMENTED["quadratic_plain"]
     assert plain["solid.young_modulus"] == spec["solid.young_modulus"]     # the rest as before
-    back = plain.with_overrides({"solid.scheme": "gray2001"})
+    back = plain.with_overrides({"solid.scheme": "quadratic_gradient"})
     assert back.values == spec.values
     # an explicit detailed key (file, --set or an earlier override) stays through later scheme changes
     tuned = load_scene("elastic_gate", ["solid.artificial_stress_epsilon=0.05"])

@@ -45,7 +45,7 @@ def layout_values(values):
 
 
 def check(values):
-    gate.layer_counts(layout_values(values))
+    gate.check_fit_layers(layout_values(values))
 
 
 def build(values):

@@ -93,6 +93,10 @@ def span_layers(values):
     return max(need, int(round(values["geometry.span"] / dp)))
 
 
+# particle layers through the gate the quadratic fit needs to be determined (solid/fitted_gradient.py)
+QUADRATIC_FIT_LAYERS = 3
+
+
 def check(values):
     from .hydrostatic import check_walls_and_span
     c = layer_counts(values)
@@ -100,6 +104,20 @@ def check(values):
     if c["nw"] < c["nh"]:
         raise SceneError(f"geometry.wall_height = {values['geometry.wall_height']:g} m: below the water; allowed: "
                          f"at least geometry.water_height")
+    check_fit_layers(values)
+
+
+def check_fit_layers(values):
+    """The quadratic fit needs QUADRATIC_FIT_LAYERS particles through the gate; with fewer it is not determined
+    across the gate and falls back to the linear fit, and the coupled gate stalls (docs/validation/OPEN.md, sec. 2)."""
+    nt = layer_counts(values)["nt"]
+    if values["solid.velocity_gradient"] == "quadratic" and nt < QUADRATIC_FIT_LAYERS:
+        dp = values["numerics.spacing"]
+        raise SceneError(
+            f"numerics.spacing = {dp:g} m leaves {nt} particles through geometry.gate_thickness = "
+            f"{values['geometry.gate_thickness']:g} m; solid.velocity_gradient = quadratic (solid.scheme = "
+            f"{values['solid.scheme']}) needs {QUADRATIC_FIT_LAYERS}: allowed numerics.spacing <= "
+            f"{values['geometry.gate_thickness'] / QUADRATIC_FIT_LAYERS:.4g} m, or solid.scheme = gray2001")
 
 
 def build(values):

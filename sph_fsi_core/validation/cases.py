@@ -53,21 +53,22 @@ def _cantilever_shape_rungs():
 
 def _cantilever_rungs():
     rungs = []
-    # The scene's scheme, quadratic_gradient: the quadratic fit with the strain-gradient nodal integration
-    # (config/cantilever.yaml).
+    # quadratic_gradient, the quadratic fit with the strain-gradient nodal integration, with the fixed clamp: as these
+    # rungs were run, before the scheme took the mirrored clamp (the default scheme itself: cantilever_shapes).
+    fixed = {"solid.clamp": "fixed"}
     # Resolution ladder H/dp = 4, 6, 8 (2.25 periods of the reference each: the zero-crossing fit and the damping
     # ratio need two full periods of the tip). CI runs H/dp = 4 (the paper's spacing), bound 3 %.
     for ratio, quick in ((4, True), (6, False), (8, False)):
         dp = 0.004 / ratio
         rungs.append(Rung("cantilever_ladder", f"H_over_dp_{ratio}", "cantilever",
-                          {"numerics.spacing": dp}, periods=2.25, quick=quick, bound=0.03,
+                          {"numerics.spacing": dp, **fixed}, periods=2.25, quick=quick, bound=0.03,
                           note=f"dp = {dp * 1e3:.3f} mm"))
     # Length sweep at dp = 1 mm, as the paper's Fig. 5 (2.25 periods, as the ladder; shorter records let the
     # free end's higher modes bias the frequency). The cost grows as L^3 (particles x period).
-    rungs += [Rung("cantilever_length", f"L{length_mm}", "cantilever", {"geometry.length": length_mm * 1e-3},
+    rungs += [Rung("cantilever_length", f"L{length_mm}", "cantilever", {"geometry.length": length_mm * 1e-3, **fixed},
                    periods=2.25, note=f"L = {length_mm} mm, dp = 1 mm") for length_mm in (40, 60, 80, 100, 120)]
     # The paper's beam at the paper's spacing, 10 periods: frequency, damping, energy, sideways mode.
-    rungs.append(Rung("cantilever", "L40_dp1.0_10periods", "cantilever", {}, periods=10.0,
+    rungs.append(Rung("cantilever", "L40_dp1.0_10periods", "cantilever", fixed, periods=10.0,
                       note="the paper's beam, 10 periods"))
     # The same beams with quadratic_plain, the plain nodal integration (each particle's strain at its centre, the
     # scheme before the gradient integration; a 4-layer beam's EI 6 % short, docs/method.md).
@@ -149,13 +150,14 @@ def _gate_rungs():
     # leaves the gate 11 % soft in bending; the strain-gradient nodal integration puts it back (docs/method.md).
     rungs.append(Rung("antoci_gate", "pressure_gradient_eps0_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
-                       "solid.scheme": "quadratic_gradient"}, end_time=0.4,
+                       "solid.scheme": "quadratic_gradient", "solid.clamp": "fixed"}, end_time=0.4,
                       note="dp = 1.67 mm, coupling pressure, solid.scheme = quadratic_gradient (strain-gradient "
-                           "nodal integration, no artificial stress)"))
+                           "nodal integration, no artificial stress) with the fixed clamp"))
     for dp, label, extra in ((0.002, "dp2mm", {"geometry.gate_clamp_height": 0.004}), (0.001, "dp1mm", {})):
         for model in ("seed", "pressure"):
             rungs.append(Rung("elastic_gate", f"{model}_{label}", "elastic_gate",
-                              {"numerics.spacing": dp, "coupling.model": model, **extra}, end_time=0.14,
+                              {"numerics.spacing": dp, "coupling.model": model, "solid.scheme": "gray2001", **extra},
+                              end_time=0.14,
                               snapshot_interval=0.02,
                               note=f"dp = {dp * 1e3:g} mm, coupling {model}; the paper's Figs. 6-8 (qualitative)"))
     # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins gray2001
@@ -166,6 +168,19 @@ def _gate_rungs():
                       end_time=0.14, snapshot_interval=0.02,
                       note="dp = 1 mm, coupling pressure, solid.scheme = quadratic_plain (quadratic-fit solid without "
                            "artificial stress)"))
+    return rungs
+
+
+# Both gates with the default scheme (quadratic_gradient and its mirrored clamp, every scene's since 2026-12; the
+# verification issue's items 5 and 6): the paper's gate at its 1 mm against its figures' window and Gray's run above,
+# Antoci's on a ladder of 3 / 4 / 5 particles through the gate against the experiment.
+def _gate_default_rungs():
+    rungs = [Rung("gate_default", "elastic_gate_dp1mm", "elastic_gate", {"numerics.spacing": 0.001}, end_time=0.14,
+                  snapshot_interval=0.02, note="the paper's gate at its 1 mm, the scene as it is")]
+    for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm"), (0.001, "dp1mm")):
+        rungs.append(Rung("gate_default", f"antoci_gate_{label}", "antoci_gate", {"numerics.spacing": dp},
+                          end_time=0.4, note=f"dp = {dp * 1e3:.3g} mm ({round(0.005 / dp)} particles through the gate), "
+                                             f"the scene as it is; free end vs Antoci et al. 2007"))
     return rungs
 
 
@@ -229,18 +244,23 @@ GATE_STATIC_SPACINGS = ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm"))
 
 def _gate_static_rungs():
     rungs = []
-    best = {"solid.scheme": "quadratic_gradient", "solid.clamp": "mirrored"}
+    antoci = {"solid.scheme": "quadratic_plain_artificial_stress"}   # the antoci_gate scene's until 2026-12
     for dp, label in GATE_STATIC_SPACINGS:
         through = round(0.005 / dp)
-        rungs.append(Rung("gate_static", f"coupled_{label}", "antoci_gate_static", {"numerics.spacing": dp},
-                          end_time=1.0, note=f"{through} particles through the gate, coupled, the antoci_gate scheme"))
-        rungs.append(Rung("gate_static", f"loaded_{label}", "antoci_gate_loaded", {"numerics.spacing": dp},
-                          end_time=0.4, note=f"{through} particles through the gate, the exact pressure, the antoci_gate "
-                                             f"scheme"))
+        rungs.append(Rung("gate_static", f"coupled_{label}", "antoci_gate_static", {"numerics.spacing": dp, **antoci},
+                          end_time=1.0, note=f"{through} particles through the gate, coupled, solid.scheme = "
+                                             f"quadratic_plain_artificial_stress"))
+        rungs.append(Rung("gate_static", f"loaded_{label}", "antoci_gate_loaded", {"numerics.spacing": dp, **antoci},
+                          end_time=0.4, note=f"{through} particles through the gate, the exact pressure, solid.scheme "
+                                             f"= quadratic_plain_artificial_stress"))
         rungs.append(Rung("gate_static", f"loaded_gradient_mirrored_{label}", "antoci_gate_loaded",
-                          {"numerics.spacing": dp, **best}, end_time=0.4,
-                          note=f"{through} particles through the gate, the exact pressure, solid.scheme = "
-                               f"quadratic_gradient, solid.clamp = mirrored"))
+                          {"numerics.spacing": dp}, end_time=0.4,
+                          note=f"{through} particles through the gate, the exact pressure, the default scheme "
+                               f"(quadratic_gradient, mirrored clamp)"))
+        rungs.append(Rung("gate_static", f"coupled_gradient_mirrored_{label}", "antoci_gate_static",
+                          {"numerics.spacing": dp}, end_time=1.0,
+                          note=f"{through} particles through the gate, coupled, the default scheme "
+                               f"(quadratic_gradient, mirrored clamp)"))
     return rungs
 
 
@@ -250,7 +270,7 @@ CANTILEVER_CASES = ("cantilever", "cantilever_ladder", "cantilever_length", "can
 
 def all_rungs():
     return (_cantilever_rungs() + _cantilever_shape_rungs() + _solid_static_rungs() + _hydrostatic_plate_rungs() + _fluid_rungs()
-            + _gate_rungs() + _gate_static_rungs())
+            + _gate_rungs() + _gate_default_rungs() + _gate_static_rungs())
 
 
 # Names that select several cases at once.

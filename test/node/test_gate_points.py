@@ -9,7 +9,8 @@ from sph_fsi_core.simulation import Simulation
 
 
 def test_gate_scene_topics_and_points():
-    sim = Simulation(load_scene("elastic_gate", ["numerics.spacing=0.002", "geometry.gate_clamp_height=0.004",
+    sim = Simulation(load_scene("elastic_gate", ["numerics.spacing=0.002", "solid.scheme=gray2001",
+                                                 "geometry.gate_clamp_height=0.004",
                                                  "geometry.span=0", "output.timeseries_interval=0.002"]))
     sim.step()
     assert topic_plan(sim) == {"particles", "walls", "tip_displacement", "strain_energy"}

@@ -16,7 +16,8 @@ def test_elastic_gate_coarse(model):
     a fraction of a millimetre to a few millimetres (2 mm spacing; the pressure model: ~1-3 mm at 0.03 s)."""
     rows = []
     spec_over = {"numerics.spacing": 0.002, "geometry.gate_clamp_height": 0.004, "geometry.span": 0.0,
-                 "coupling.model": model, "output.timeseries_interval": 0.005}
+                 "coupling.model": model, "output.timeseries_interval": 0.005,
+                 "solid.scheme": "gray2001"}   # 2 particles through the gate: the paper's scheme
     spec = load_scene("elastic_gate", list(spec_over.items()) + [("scene.end_time", 0.03),
                                                                 ("output.snapshot_interval", 0.0)])
     summary = run_scene(spec, None, progress=False, on_sample=lambda sim, row: rows.append(row))
@@ -36,7 +37,7 @@ def test_antoci_gate_coarse():
     at this spacing: too few for the scene's quadratic-fit solid, so Gray's SPH gradient (docs/validation/OPEN.md, sec. 2)."""
     rows = []
     spec = load_scene("antoci_gate", [("numerics.spacing", 0.0025), ("coupling.model", "pressure"),
-                                      ("solid.velocity_gradient", "sph"),
+                                      ("solid.scheme", "gray2001"), ("solid.cfl", 0.25),
                                       ("scene.end_time", 0.02), ("output.snapshot_interval", 0.0),
                                       ("output.timeseries_interval", 0.005)])
     summary = run_scene(spec, None, progress=False, on_sample=lambda sim, row: rows.append(row))
