@@ -46,7 +46,7 @@ def _cantilever_shape_rungs():
         for ratio in CANTILEVER_SHAPE_SLENDERNESS:
             overrides = {"geometry.length": ratio * 0.004, "solid.poisson_ratio": nu, "solid.clamp": "mirrored"}
             rungs.append(Rung("cantilever_shapes", f"nu{nu:g}_L_over_H_{ratio}", "cantilever", overrides,
-                              periods=2.25, quick=(nu == 0.3 and ratio == 10), bound=0.015,
+                              periods=2.25, quick=(nu == 0.3 and ratio == 10), bound=0.02,
                               note=f"L / H = {ratio}, nu = {nu:g}, 4 particles through, solid.clamp = mirrored"))
     return rungs
 
