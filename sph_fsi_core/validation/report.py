@@ -81,6 +81,16 @@ def _cantilever_extra(rungs, summaries):
             "|---|---|---|---|---|---|---|---|", *lines]
 
 
+def _grid(title, text, row_name, rows, col_names, cell):
+    """A section with one table: a row per entry of `rows`, a column per (label, key) of `col_names`, each cell
+    cell(row, key)."""
+    lines = ["", title, "", text, "", f"| {row_name} | " + " | ".join(label for label, _ in col_names) + " |",
+             "|---|" + "---|" * len(col_names)]
+    for row, row_label in rows:
+        lines.append(f"| {row_label} | " + " | ".join(cell(row, key) for _, key in col_names) + " |")
+    return lines
+
+
 def _solid_static_extra(rungs, summaries):
     """The static plate by scheme and resolution: the error of the settled mid-span deflection against FE."""
     runs = [(r, summaries.get(r.key)) for r in rungs if r.case == "solid_static"]
@@ -88,22 +98,20 @@ def _solid_static_extra(rungs, summaries):
         return []
     layers = sorted({int(r.label.rsplit("_", 1)[1]) for r, _ in runs})
     schemes = list(dict.fromkeys(r.label.rsplit("_t_over_dp_", 1)[0] for r, _ in runs))
-    lines = ["", "## The solid alone under a prescribed load (solid_static)", "",
-             "The hydrostatic-plate benchmark's plate (1 m x 0.05 m aluminium, clamped at both ends, plane strain) "
-             "under the water's exact pressure and its own weight, settled; the mid-span, mid-thickness deflection "
-             "against the project's plane-strain FE value (validation/fe_reference.py). + is softer than FE. "
-             "Wall time in brackets.", "",
-             "| scheme | " + " | ".join(f"t/dp = {n}" for n in layers) + " |",
-             "|---|" + "---|" * len(layers)]
-    for scheme in schemes:
-        cells = []
-        for n in layers:
-            s = summaries.get(f"solid_static/{scheme}_t_over_dp_{n}")
-            cells.append("not run" if s is None else
-                         f"{100 * s['error_signed']:+.2f} % ({s['wall_time_s']:.0f} s)" if s.get("error_signed")
-                         is not None else "did not finish")
-        lines.append(f"| {scheme} | " + " | ".join(cells) + " |")
-    return lines
+
+    def cell(scheme, n):
+        s = summaries.get(f"solid_static/{scheme}_t_over_dp_{n}")
+        if s is None:
+            return "not run"
+        if s.get("error_signed") is None:
+            return "did not finish"
+        return f"{100 * s['error_signed']:+.2f} % ({s['wall_time_s']:.0f} s)"
+    return _grid("## The solid alone under a prescribed load (solid_static)",
+                 "The hydrostatic-plate benchmark's plate (1 m x 0.05 m aluminium, clamped at both ends, plane strain) "
+                 "under the water's exact pressure and its own weight, settled; the mid-span, mid-thickness deflection "
+                 "against the project's plane-strain FE value (validation/fe_reference.py). + is softer than FE. "
+                 "Wall time in brackets.", "scheme", [(x, x) for x in schemes],
+                 [(f"t/dp = {n}", n) for n in layers], cell)
 
 
 def _cantilever_shapes_extra(rungs, summaries):
@@ -113,26 +121,20 @@ def _cantilever_shapes_extra(rungs, summaries):
         return []
     poisson = list(dict.fromkeys(r.overrides["solid.poisson_ratio"] for r, _ in runs))
     ratios = list(dict.fromkeys(round(r.overrides["geometry.length"] / 0.004) for r, _ in runs))
-    lines = ["", "## The default scheme's cantilever over shapes and materials (cantilever_shapes)", "",
-             "`quadratic_gradient` with the mirrored clamp, 4 particles through the paper's 4 x 6 mm section (dp = 1 "
-             "mm), 2.25 periods from the first mode's velocity (eq. (12)); the first vertical frequency against the "
-             "project's 3D FE for the same shape and nu (reference_data/cantilever_fe3d_nondimensional.csv, meshes "
-             "H/2, H/4, H/6 extrapolated). - is softer than FE. Wall time in brackets.", "",
-             "| nu | " + " | ".join(f"L/H = {n}" for n in ratios) + " |",
-             "|---|" + "---|" * len(ratios)]
-    for nu in poisson:
-        cells = []
-        for n in ratios:
-            s = summaries.get(f"cantilever_shapes/nu{nu:g}_L_over_H_{n}")
-            if s is None:
-                cells.append("not run")
-            elif s.get("frequency_hz") is None or not s.get("reference_hz"):
-                cells.append("no frequency")
-            else:
-                cells.append(f"{100 * (s['frequency_hz'] / s['reference_hz'] - 1.0):+.2f} % "
-                             f"({s['wall_time_s']:.0f} s)")
-        lines.append(f"| {nu:g} | " + " | ".join(cells) + " |")
-    return lines
+
+    def cell(nu, n):
+        s = summaries.get(f"cantilever_shapes/nu{nu:g}_L_over_H_{n}")
+        if s is None:
+            return "not run"
+        if s.get("frequency_hz") is None or not s.get("reference_hz"):
+            return "no frequency"
+        return f"{100 * (s['frequency_hz'] / s['reference_hz'] - 1.0):+.2f} % ({s['wall_time_s']:.0f} s)"
+    return _grid("## The default scheme's cantilever over shapes and materials (cantilever_shapes)",
+                 "`quadratic_gradient` with the mirrored clamp, 4 particles through the paper's 4 x 6 mm section (dp = "
+                 "1 mm), 2.25 periods from the first mode's velocity (eq. (12)); the first vertical frequency against "
+                 "the project's 3D FE for the same shape and nu (reference_data/cantilever_fe3d_nondimensional.csv, "
+                 "meshes H/2, H/4, H/6 extrapolated). - is softer than FE. Wall time in brackets.", "nu",
+                 [(nu, f"{nu:g}") for nu in poisson], [(f"L/H = {n}", n) for n in ratios], cell)
 
 
 def _hydrostatic_plate_extra(rungs, summaries):
