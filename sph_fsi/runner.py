@@ -508,7 +508,8 @@ class Runner:
         if getattr(sim, "fluid", None) is not None:   # the density correction's last step
             values.update(iterations=f"{sim.last_density_iterations:d}",
                           density_error=f"{sim.last_density_error:.6g}", fluid_steps=str(sim.fluid_steps),
-                          fluid_dt=f"{sim.last_fluid_dt:.6g}", capped_steps=str(sim.fluid_capped_steps))
+                          fluid_dt=f"{sim.last_fluid_dt:.6g}", capped_steps=str(sim.fluid_capped_steps),
+                          fluid_particles_lost=str(int(sim.fluid_lost.sum())))
         pending = self.pending()
         with self._cv:
             diverged = self._diverged

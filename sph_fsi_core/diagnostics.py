@@ -3,7 +3,8 @@
 The watchdog runs after every outer step. Checks, in order, for the solid: non-finite state, density out of
 [0.5, 2] rho0, particles faster than watchdog.max_speed, particles outside the scene's domain, and (scenes with no
 energy input) kinetic + strain energy above watchdog.energy_growth times its initial value; for the fluid:
-non-finite state, compression above fluid.max_density_error (the correction lost control), speed, domain, and a
+non-finite state, compression above fluid.max_density_error (the correction lost control), speed, more water
+outside the domain than watchdog.max_fluid_lost (Simulation holds the few that splash out still), and a
 stable fluid step collapsing below fluid.min_time_step. The first that trips raises Diverged naming the check,
 the simulated time, the phase and the particles involved (indices within their phase).
 """
@@ -92,9 +93,13 @@ class Watchdog:
             self._trip("speed", bad, f"fluid speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = "
                                      f"{v['watchdog.max_speed']:g} m/s", "fluid")
         if self.lo is not None:
-            bad = _where(((f.pos < self.lo) | (f.pos > self.hi)).any(axis=1))
-            if len(bad):
-                self._trip("left the domain", bad, f"fluid outside the box {self.lo} .. {self.hi} m", "fluid")
+            lost = sim.fluid_lost
+            allowed = v["watchdog.max_fluid_lost"] * len(lost)
+            if lost.sum() > allowed:
+                self._trip("left the domain", _where(lost),
+                           f"{int(lost.sum())} water particle(s) left the box {self.lo} .. {self.hi} m, more than "
+                           f"watchdog.max_fluid_lost = {v['watchdog.max_fluid_lost']:g} of the water "
+                           f"({int(allowed)} particles)", "fluid")
 
     def check_solid(self):
         sim = self.sim

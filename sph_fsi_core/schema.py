@@ -132,6 +132,10 @@ COMMON = [
     _p("watchdog.energy_growth", 2.0, "1",
        "Scenes with no energy input stop as diverged once kinetic + strain energy exceeds this multiple of "
        "its initial value", low=1.0, low_inclusive=False, rebuild=False),
+    _p("watchdog.max_fluid_lost", 1.0e-3, "1",
+       "Water particles that leave the scene's domain (a splash over a wall) are held still where they left and "
+       "counted; the run stops as diverged once more than this fraction of the water has left (0: the first one)",
+       low=0.0, high=1.0, rebuild=False),
 ]
 
 # The elastic solid (Gray et al. 2001; Satake et al. sec. 2.1).

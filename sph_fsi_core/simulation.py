@@ -102,6 +102,8 @@ class Simulation:
         self.coupling = None   # only with both a solid and a fluid (coupling.py)
         if self.fluid is not None:
             self._fluid_initial_positions = self.fluid.pos.copy()
+            self.fluid_lost = np.zeros(self.fluid.count, dtype=np.bool_)   # left the domain: held still
+            self._fluid_lost_at = np.zeros((self.fluid.count, 3))
             fluid_walls = self.walls
             if self.solid is not None:
                 self.coupling = Coupling(self.solid, self.fluid, self.walls, self.h, self.period,
@@ -349,7 +351,28 @@ class Simulation:
         self._relax(duration)
         self.time += duration
         self.outer_steps += 1
+        if self.fluid is not None and self.domain_lo is not None:
+            self._hold_lost_fluid()
         self.watchdog.check()
+
+    def _hold_lost_fluid(self):
+        """Water that left the domain box (a splash over a wall, falling outside the tank) is held still on the
+        box's face where it left, as DualSPHysics excludes its "out" particles: alone there, it has no neighbours
+        and carries no pressure, and the run goes on. The watchdog counts them against watchdog.max_fluid_lost."""
+        f = self.fluid
+        out = ((f.pos < self.domain_lo) | (f.pos > self.domain_hi)).any(axis=1) & ~self.fluid_lost
+        new = np.flatnonzero(out)
+        if len(new):
+            self._fluid_lost_at[new] = np.clip(f.pos[new], self.domain_lo, self.domain_hi)
+            self.fluid_lost[new] = True
+            self.warnings.append(f"t = {self.time:.6g} s: {len(new)} water particle(s) left the domain box "
+                                 f"{self.domain_lo} .. {self.domain_hi} m (e.g. fluid particle {new[0]}, initially "
+                                 f"at {np.array2string(self._fluid_initial_positions[new[0]], precision=4)} m); "
+                                 f"held still where they left, {int(self.fluid_lost.sum())} in all")
+        if self.fluid_lost.any():
+            lost = self.fluid_lost
+            f.pos[lost] = self._fluid_lost_at[lost]
+            f.vel[lost] = 0.0
 
     def _prescribed_acceleration(self, t):
         """The scene's prescribed load on the solid at time t, as an acceleration per particle, ramped in as

@@ -167,6 +167,29 @@ def test_watchdog_names_the_fluid_particle():
     assert info.value.particles[0] == 17 and "fluid particle 17" in str(info.value)
 
 
+def test_water_that_splashes_out_is_held_still_and_counted():
+    """A particle thrown over the tank's wall leaves the domain box: it is held still on the box's face where it
+    left (it no longer falls), the run goes on with a warning naming it, the summary counts it; more than
+    watchdog.max_fluid_lost of the water outside stops the run naming the check and the key."""
+    sim = Simulation(load_scene("dam_break", ["numerics.spacing=0.005715", "watchdog.max_fluid_lost=0.01"]))
+    n = sim.fluid.count
+    sim.fluid.pos[17] = sim.domain_hi + np.array([-0.01, -0.01, 0.001])   # just above the box's lid, at rest
+    sim.step()
+    assert sim.fluid_lost.sum() == 1 and sim.fluid_lost[17]
+    held = sim.fluid.pos[17].copy()
+    assert held[2] == sim.domain_hi[2] and np.all(sim.fluid.vel[17] == 0.0)
+    assert "1 water particle(s) left the domain box" in sim.warnings[-1] and "fluid particle 17" in sim.warnings[-1]
+    for _ in range(3):
+        sim.step()
+    assert np.array_equal(sim.fluid.pos[17], held) and np.all(sim.fluid.vel[17] == 0.0)
+    too_many = int(0.01 * n) + 1
+    sim.fluid.pos[-too_many:, 2] = sim.domain_lo[2] - 0.01
+    with pytest.raises(Diverged) as info:
+        sim.step()
+    assert info.value.check == "left the domain" and info.value.phase == "fluid"
+    assert f"{too_many + 1} water particle(s) left" in str(info.value) and "watchdog.max_fluid_lost" in str(info.value)
+
+
 def test_viscous_term_decays_a_shear_wave_at_nu_k2():
     """v_x = U sin(k z) on a periodic lattice: one step of eq. (9) (Morris form) changes it by -nu k^2 dt v."""
     n = 24

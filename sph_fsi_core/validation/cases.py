@@ -181,6 +181,10 @@ def _gate_default_rungs():
         rungs.append(Rung("gate_default", f"antoci_gate_{label}", "antoci_gate", {"numerics.spacing": dp},
                           end_time=0.4, note=f"dp = {dp * 1e3:.3g} mm ({round(0.005 / dp)} particles through the gate), "
                                              f"the scene as it is; free end vs Antoci et al. 2007"))
+    # the other published material (CoCoNuT's row of reference/antoci2007_material_by_source.csv): the band's edge
+    rungs.append(Rung("gate_default", "antoci_gate_E10MPa_nu0.49_dp1.67mm", "antoci_gate",
+                      {"numerics.spacing": 0.005 / 3, "solid.young_modulus": 1.0e7, "solid.poisson_ratio": 0.49},
+                      end_time=0.4, note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 5/3 mm"))
     return rungs
 
 
