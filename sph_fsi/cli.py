@@ -114,7 +114,12 @@ def _cmd_run(args):
     import time
     from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, kernels_cached
     from sph_fsi_core.run import Interrupted, run_scene
+    from sph_fsi_core.memory_guard import MAX_PARTICLES_ENV
     from sph_fsi_core.scene import load_scene
+    if args.max_particles is not None:
+        if args.max_particles < 1:
+            raise ValueError(f"--max-particles {args.max_particles}: allowed: a positive integer")
+        os.environ[MAX_PARTICLES_ENV] = str(args.max_particles)
     spec = load_scene(args.scene, args.set or [])
     if args.end_time is not None:
         spec = spec.with_overrides({"scene.end_time": args.end_time})
@@ -253,6 +258,9 @@ def build_parser():
                    help="stream live to a Rerun viewer (host:port or rerun+http://host:port/proxy)")
     p.add_argument("--record-interval", type=float, default=None, metavar="T",
                    help="simulated seconds between recorded frames (default 0.005; 0 = every outer step)")
+    p.add_argument("--max-particles", type=int, default=None, metavar="N",
+                   help="refuse scenes with more particles than N (default: refuse what would not fit in the "
+                        "memory available now, as estimated from the geometry and the spacing)")
     p.set_defaults(func=_cmd_run)
     p = sub.add_parser("replay", help="republish an MCAP recording onto ROS 2 topics (needs rclpy)")
     p.add_argument("file", help="an .mcap written by sph-fsi run --mcap or the node's mcap_path")

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import yaml
 
+from . import memory_guard
 from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError
 from .scenes import BUILDERS, DEFAULT_SCENE
 from .solid.schemes import scheme_values
@@ -166,6 +167,7 @@ def _resolve(builder_name, flat, origin):
     if not values["scene.name"]:
         values["scene.name"] = builder_name
     builder.check(values)
+    memory_guard.check(builder, values)
     spec = SceneSpec(builder_name, schema, values, origin)
     spec._explicit = dict(flat)
     return spec
@@ -183,14 +185,40 @@ def load_scene(scene=None, overrides=()):
         path = found
     if not path.is_file():
         raise SceneError(f"scene file {str(path)!r}: not found")
-    flat = _flatten(parse_yaml(path.read_text(), origin=str(path)), str(path))
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r}: not UTF-8 text ({exc.reason} at byte {exc.start}); allowed: "
+                         f"a YAML text file in UTF-8") from None
+    except OSError as exc:
+        raise SceneError(f"scene file {str(path)!r}: cannot be read ({exc.strerror or exc}); allowed: a readable "
+                         f"YAML file") from None
+    try:
+        flat = _flatten(parse_yaml(text, origin=str(path)), str(path))
+    except SceneError as exc:
+        raise (exc if str(exc).startswith(str(path)) else SceneError(f"{path}: {exc}")) from None
+    from_file = set(flat)
+    overridden = set()
     for item in overrides:
         key, value = parse_override(item) if isinstance(item, str) else item
         flat[key] = value
-    builder = flat.get("scene.builder", path.stem)
-    if not isinstance(builder, str):
-        raise SceneError(f"scene.builder = {builder!r}: expected a string naming a builder")
-    return _resolve(builder, flat, str(path))
+        overridden.add(key)
+    try:
+        builder = flat.get("scene.builder", path.stem)
+        if not isinstance(builder, str):
+            raise SceneError(f"scene.builder = {builder!r}: expected a string naming a builder")
+        return _resolve(builder, flat, str(path))
+    except SceneError as exc:
+        raise _naming_the_file(exc, path, from_file - overridden) from None
+
+
+def _naming_the_file(exc, path, file_keys):
+    """A SceneError about a key the scene file set, prefixed with the file's path (an override's stays as it is)."""
+    message = str(exc)
+    key = message.split(" ", 1)[0].rstrip(":")
+    if key in file_keys:
+        return SceneError(f"{path}: {message}")
+    return exc
 
 
 def defaults_yaml():

@@ -7,6 +7,7 @@ Builder module interface:
     DEFAULTS      {key: value} overriding schema defaults for this builder
     CONSERVATIVE  True when nothing feeds energy in (the watchdog then bounds energy growth)
     check(values)               SceneError for inconsistent values (e.g. spacing larger than the body)
+    particle_counts(values)     {phase: count} of what build() makes, computed without making it (memory guard)
     build(values) -> Built      particles, probes, domain
     evaluate(series, values)    {measured quantities, reference, error} from the run's time series
     sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..validation.references import antoci_gate_tip
 from . import gate
-from .gate import CONSERVATIVE, PHASES, build, sample, sample_fluid  # noqa: F401  (builder interface)
+from .gate import CONSERVATIVE, PHASES, build, particle_counts, sample, sample_fluid  # noqa: F401  (builder interface)
 
 GEOMETRY = gate.geometry_params(dict(
     gate_thickness=0.005, gate_length=0.079, gate_clearance=0.0025, gate_clamp_height=0.0685, water_width=0.1,

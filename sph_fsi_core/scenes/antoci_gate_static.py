@@ -21,7 +21,7 @@ import math
 
 from . import gate, tank
 from .antoci_gate import DEFAULTS as _ANTOCI_DEFAULTS
-from .gate import CONSERVATIVE, PHASES, sample, sample_fluid  # noqa: F401  (builder interface)
+from .gate import CONSERVATIVE, PHASES, particle_counts, sample, sample_fluid  # noqa: F401  (builder interface)
 
 GEOMETRY = gate.geometry_params(dict(
     gate_thickness=0.005, gate_length=0.079, gate_clearance=0.0, gate_clamp_height=0.0685, water_width=0.1,

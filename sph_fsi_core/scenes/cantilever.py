@@ -52,6 +52,16 @@ def check(values):
         _layers(values[key], dp, key)
 
 
+def particle_counts(values):
+    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
+    dp = values["numerics.spacing"]
+    nl = _layers(values["geometry.length"], dp, "geometry.length")
+    nh = _layers(values["geometry.thickness"], dp, "geometry.thickness")
+    nw = _layers(values["geometry.width"], dp, "geometry.width")
+    ncl, margin = values["geometry.clamp_layers"], values["geometry.clamp_margin"]
+    return {"solid": nl * nw * nh + ncl * nw * (nh + 2 * margin)}
+
+
 def build(values):
     dp = values["numerics.spacing"]
     nl = _layers(values["geometry.length"], dp, "geometry.length")

@@ -101,6 +101,12 @@ def pressure_at(values, x):
     return values["geometry.load_pressure"] + values["geometry.load_gradient"] * x
 
 
+def particle_counts(values):
+    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
+    c = layer_counts(values)
+    return {"solid": (c["nx"] + 2 * c["nc"]) * c["ny"] * c["nz"]}
+
+
 def build(values):
     dp = values["numerics.spacing"]
     c = layer_counts(values)

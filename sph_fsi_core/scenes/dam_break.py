@@ -54,6 +54,14 @@ def check(values):
     check_walls_and_span(values)
 
 
+def particle_counts(values):
+    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
+    dp = values["numerics.spacing"]
+    nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width")
+    nz = tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height")
+    return tank.column_in_tank_counts(values, nx, nz, int(round(values["geometry.tank_length"] / dp)))
+
+
 def build(values):
     dp = values["numerics.spacing"]
     nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width")

@@ -11,7 +11,7 @@ largest deflection at t = 0.06-0.08 s, then spring-back, and the strain energy r
 import numpy as np
 
 from . import gate
-from .gate import CONSERVATIVE, PHASES, build, sample, sample_fluid  # noqa: F401  (builder interface)
+from .gate import CONSERVATIVE, PHASES, build, particle_counts, sample, sample_fluid  # noqa: F401  (builder interface)
 
 GEOMETRY = gate.geometry_params(dict(
     gate_thickness=0.004, gate_length=0.040, gate_clearance=0.002, gate_clamp_height=0.003, water_width=0.020,

@@ -120,6 +120,14 @@ def check_fit_layers(values):
             f"{values['geometry.gate_thickness'] / QUADRATIC_FIT_LAYERS:.4g} m, or solid.scheme = gray2001")
 
 
+def particle_counts(values):
+    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
+    c = layer_counts(values)
+    nt, nl, ng, nc, na, nh, nd, nw, ny = (c[k] for k in ("nt", "nl", "ng", "nc", "na", "nh", "nd", "nw", "ny"))
+    return {"solid": nt * ny * (nl + nc), "fluid": na * ny * nh + nt * ny * ng,
+            "walls": tank.tank_wall_count(nd + nt + na, ny, nw, values["geometry.wall_layers"], True)}
+
+
 def build(values):
     dp = values["numerics.spacing"]
     c = layer_counts(values)

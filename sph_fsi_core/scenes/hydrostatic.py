@@ -59,6 +59,14 @@ def check_walls_and_span(values):
                              f"least twice the neighbour cutoff (2h + skin) wide; allowed: at least {need}")
 
 
+def particle_counts(values):
+    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
+    dp = values["numerics.spacing"]
+    nx = tank.whole_layers(values["geometry.width"], dp, "geometry.width")
+    nz = tank.whole_layers(values["geometry.depth"], dp, "geometry.depth")
+    return tank.column_in_tank_counts(values, nx, nz, nx)
+
+
 def build(values):
     dp = values["numerics.spacing"]
     nx = tank.whole_layers(values["geometry.width"], dp, "geometry.width")

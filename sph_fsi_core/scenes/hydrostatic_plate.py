@@ -87,6 +87,14 @@ def check(values):
                          f"geometry.water_height")
 
 
+def particle_counts(values):
+    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
+    c = layer_counts(values)
+    nx, nz, ny, nc, nh, nw = (c[k] for k in ("nx", "nz", "ny", "nc", "nh", "nw"))
+    return {"solid": (nx + 2 * nc) * ny * nz, "fluid": nx * ny * nh,
+            "walls": 2 * values["geometry.wall_layers"] * ny * nw}
+
+
 def build(values):
     dp = values["numerics.spacing"]
     c = layer_counts(values)

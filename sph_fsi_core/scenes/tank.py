@@ -76,6 +76,21 @@ def tank_walls(nx, ny, nz_wall, layers, spacing, periodic_y):
     return (sites + 0.5) * spacing
 
 
+def tank_wall_count(nx, ny, nz_wall, layers, periodic_y):
+    """len(tank_walls(...)) without making them: the padded block less the tank's inside."""
+    pad_y = 0 if periodic_y else layers
+    return (nx + 2 * layers) * (ny + 2 * pad_y) * (nz_wall + layers) - nx * ny * nz_wall
+
+
+def column_in_tank_counts(values, nx, nz, ntank):
+    """column_in_tank's particle counts per phase, without making them."""
+    dp = values["numerics.spacing"]
+    ny = values["geometry.span_layers"]
+    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
+    return {"fluid": nx * ny * nz, "walls": tank_wall_count(ntank, ny, nz_wall, values["geometry.wall_layers"],
+                                                            values["geometry.periodic_y"])}
+
+
 def period_and_box(nx, ny, spacing, layers, top, periodic_y, margin):
     """(period, domain_lo, domain_hi): y periodic over the slab if asked; a box `margin` beyond the walls."""
     span = ny * spacing

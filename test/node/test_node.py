@@ -477,6 +477,10 @@ def test_parameters_refused_applied_and_deferred(node, peer):
     assert "(0, 1e+13]" in peer.set_param("solid.young_modulus", 0.0)[0].reason
     result, _ = peer.set_param("numerics.spacing", 0.0007)   # not a whole number of layers of the beam
     assert not result.successful and "spacing" in result.reason, result.reason
+    # too fine for this machine's memory: refused at once, naming the spacing, the particles and the memory
+    result, _ = peer.set_param("numerics.spacing", 1.0e-5)
+    assert not result.successful and "numerics.spacing = 1e-05" in result.reason, result.reason
+    assert "960,984,000 particles" in result.reason and "GiB of memory is available" in result.reason, result.reason
     result, _ = peer.set_param("qos", "fast")
     assert not result.successful and "qos" in result.reason
     assert peer.get_param("solid.young_modulus") == 1.859e6
@@ -571,6 +575,13 @@ def test_bad_startup_parameter_exits_2_with_reason():
     assert proc.proc.wait(60.0) == 2
     err = proc.stderr().strip().splitlines()
     assert err and "solid.young_modulus" in err[-1] and "(0, 1e+13]" in err[-1], err
+
+
+def test_a_scene_too_large_for_the_memory_exits_2_naming_the_spacing():
+    proc = NodeProcess(SIGNAL_DOMAIN, [("numerics.spacing", 1.0e-5)], module=False)
+    assert proc.proc.wait(60.0) == 2
+    err = proc.stderr().strip().splitlines()
+    assert err and "numerics.spacing = 1e-05" in err[-1] and "particles" in err[-1] and "GiB" in err[-1], err
 
 
 def test_unwritable_out_dir_exits_2_before_running(tmp_path):
