@@ -39,6 +39,20 @@ EXIT_DIVERGED = 3
 PROGRESS_LOG_INTERVAL = 10.0   # s of wall time between progress lines in the log
 
 
+def return_freed_memory():
+    """Hand the memory of a dropped run back to the system. A rebuilt scene frees its particle arrays and
+    neighbour lists, but glibc keeps freed heap pages in the simulation thread's malloc arena: the node's resident
+    memory rose by about 140 MB over its first 80 resets and stayed there, with no object left alive (after
+    malloc_trim it is flat; test_runner.py measures 200 resets). Elsewhere than glibc: only the collection."""
+    import ctypes
+    import gc
+    gc.collect()
+    try:
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
 def numbered(path, n):
     """The n-th file or directory of a path: the path itself, then <stem>_<n><suffix> after each reset."""
     if n == 0:
@@ -287,6 +301,8 @@ class Runner:
             self._pending_keys.clear()
             self.desired = desired
             self._last_error = ""
+        del old_run, old_sim
+        return_freed_memory()
         # every reset: the node's parameters show the rebuilt scene's values (a new scene's keys, or the detailed
         # keys a changed solid.scheme expanded to)
         self.out.scene_changed(desired)
@@ -462,7 +478,7 @@ class Runner:
             rec = Recorder(self.sim, mcap_path=paths["mcap_path"], mcap_compression=st["mcap_compression"],
                            rrd_path=paths["rrd_path"], rerun_connect=st["rerun_connect"] or None,
                            interval=st["record_interval"], frame_id=st["frame_id"], namespace=self.namespace,
-                           log=self.log.warning)
+                           log=self.log.warning, rerun_process=n > 0)
         except (OSError, ValueError) as exc:
             if n == 0:
                 raise SceneError(f"recording: {exc}") from None

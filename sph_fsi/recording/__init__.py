@@ -26,7 +26,8 @@ DEFAULT_INTERVAL = 0.005   # s of simulated time, the node's default publish per
 
 class Recorder:
     def __init__(self, sim, *, mcap_path=None, mcap_compression="zstd", rrd_path=None, rerun_connect=None,
-                 interval=DEFAULT_INTERVAL, frame_id="map", namespace="/sph_fsi", max_queue=8, log=None):
+                 interval=DEFAULT_INTERVAL, frame_id="map", namespace="/sph_fsi", max_queue=8, log=None,
+                 rerun_process=False):
         if interval < 0:
             raise ValueError(f"record interval {interval:g} s: allowed: >= 0 s (0 = every outer step)")
         sinks = []
@@ -36,7 +37,12 @@ class Recorder:
                 sinks.append(McapSink(mcap_path, topic_plan(sim), compression=mcap_compression,
                                       frame_id=frame_id, namespace=namespace))
             if rrd_path or rerun_connect:
-                from .rerun_sink import RerunSink
+                # a process that opens many recordings (the node, one per reset) keeps each Rerun stream in a
+                # child process: rerun-sdk keeps native memory for every stream it created (rerun_process.py)
+                if rerun_process:
+                    from .rerun_process import RerunProcessSink as RerunSink
+                else:
+                    from .rerun_sink import RerunSink
                 sinks.append(RerunSink(rrd_path=rrd_path, connect=rerun_connect))
         except BaseException:
             for s in sinks:
