@@ -120,17 +120,35 @@ def _cmd_run(args):
         if args.max_particles < 1:
             raise ValueError(f"--max-particles {args.max_particles}: allowed: a positive integer")
         os.environ[MAX_PARTICLES_ENV] = str(args.max_particles)
-    spec = load_scene(args.scene, args.set or [])
+    if args.checkpoint_interval is not None and args.checkpoint_interval < 0:
+        raise ValueError(f"--checkpoint-interval {args.checkpoint_interval:g}: allowed: >= 0 s (0: only when "
+                         f"stopped by a signal)")
+    restart = None
+    if args.restart:
+        from sph_fsi_core.checkpoint import read_checkpoint
+        if args.scene or args.set:
+            raise ValueError("--restart continues the checkpoint's own scene and settings: allowed without a "
+                             "scene and without --set (--end-time may extend it)")
+        restart = read_checkpoint(args.restart)
+        spec = restart["sim"].spec
+    else:
+        spec = load_scene(args.scene, args.set or [])
     if args.end_time is not None:
         spec = spec.with_overrides({"scene.end_time": args.end_time})
+        if restart is not None:
+            restart["sim"].spec = restart["sim"].spec.with_overrides({"scene.end_time": args.end_time})
     out = _check_out_dir(args.out or Path("runs") / spec.name)
+    checkpoint = Path(args.checkpoint) if args.checkpoint else out / "checkpoint.ckpt"
+    if args.checkpoint:
+        _check_writable_file("--checkpoint", args.checkpoint)
     mcap = _check_writable_file("--mcap", args.mcap)
     rrd = _check_writable_file("--rrd", args.rrd)
     if args.record_interval is not None and args.record_interval < 0:
         raise ValueError(f"--record-interval {args.record_interval:g}: allowed: >= 0 s (0 = every outer step)")
     recording = bool(mcap or rrd or args.rerun_connect)
-    print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) to t = {spec['scene.end_time']:g} s "
-          f"into {out}/", file=sys.stderr)
+    print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) "
+          + (f"from its checkpoint at t = {restart['sim'].time:.6g} s " if restart else "")
+          + f"to t = {spec['scene.end_time']:g} s into {out}/", file=sys.stderr)
     state = {"rec": None, "sim": None, "stats": None, "samples": 0}
     started = time.perf_counter()
     cold = kernels_cached(spec.phases) is False
@@ -165,7 +183,9 @@ def _cmd_run(args):
 
         status, detail, summary = "failed", None, None
         try:
-            summary = run_scene(spec, out, on_sample=on_sample, recorder=ClosingRecorder if recording else None)
+            summary = run_scene(spec, out, on_sample=on_sample, recorder=ClosingRecorder if recording else None,
+                                restart=restart, checkpoint=checkpoint,
+                                checkpoint_interval=args.checkpoint_interval or 0.0)
             if summary["stable"]:
                 status = "finished"
             else:
@@ -188,6 +208,9 @@ def _cmd_run(args):
         print(f"sph-fsi: stopped by {name} at t = {state['sim'].time if state['sim'] else 0.0:.6g} s"
               + (f"; the run so far (not judged) is in {out}/timeseries.csv, {out}/summary.json"
                  if (out / "summary.json").exists() else ""), file=sys.stderr)
+        if checkpoint.exists() and state["sim"] is not None:
+            print(f"sph-fsi: checkpoint at t = {state['sim'].time:.6g} s in {checkpoint}; continue with "
+                  f"sph-fsi run --restart {checkpoint}", file=sys.stderr)
         return EXIT_INTERRUPTED
     _print_summary(summary, out)
     if status == "diverged":
@@ -261,6 +284,12 @@ def build_parser():
     p.add_argument("--max-particles", type=int, default=None, metavar="N",
                    help="refuse scenes with more particles than N (default: refuse what would not fit in the "
                         "memory available now, as estimated from the geometry and the spacing)")
+    p.add_argument("--checkpoint-interval", type=float, default=None, metavar="T",
+                   help="write a checkpoint every T simulated seconds (a signal always writes one before exiting)")
+    p.add_argument("--checkpoint", default=None, metavar="FILE",
+                   help="where checkpoints go (default OUT/checkpoint.ckpt; each replaces the last)")
+    p.add_argument("--restart", default=None, metavar="FILE",
+                   help="continue the run a checkpoint holds (its scene and settings), to the bit")
     p.set_defaults(func=_cmd_run)
     p = sub.add_parser("replay", help="republish an MCAP recording onto ROS 2 topics (needs rclpy)")
     p.add_argument("file", help="an .mcap written by sph-fsi run --mcap or the node's mcap_path")

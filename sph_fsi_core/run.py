@@ -16,6 +16,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
+from .checkpoint import write_checkpoint
 from .diagnostics import Diverged
 from .simulation import Simulation
 from .numerics.tensors import COMPONENT_NAMES
@@ -107,6 +108,14 @@ class RunLog:
         self.setup_s = setup_s
         self.stepping_s = 0.0
         self.rows = [sim.sample()]
+
+    @classmethod
+    def restored(cls, sim, state):
+        """The log of a run continued from a checkpoint (checkpoint.py): its rows and times so far."""
+        log = cls.__new__(cls)
+        log.sim, log.rows = sim, state["rows"]
+        log.setup_s, log.stepping_s = state["setup_s"], state["stepping_s"]
+        return log
 
     def add_sample(self):
         self.rows.append(self.sim.sample())
@@ -250,10 +259,15 @@ class Run:
     outer step, its sample and the sample hooks (recorders' capture, progress, the CLI's signal check).
     """
 
-    def __init__(self, spec, end_time=None, out_dir=None, snapshots_dir=None):
+    def __init__(self, spec, end_time=None, out_dir=None, snapshots_dir=None, restored=None):
         t0 = time.perf_counter()
-        self.sim = Simulation(spec)
-        self.log = RunLog(self.sim, time.perf_counter() - t0)
+        if restored is None:
+            self.sim = Simulation(spec)
+            self.log = RunLog(self.sim, time.perf_counter() - t0)
+        else:   # checkpoint.read_checkpoint's state: the run goes on where it was written
+            self.sim = restored["sim"]
+            spec = self.sim.spec
+            self.log = RunLog.restored(self.sim, restored)
         self.end_time = end_time
         self.out_dir = Path(out_dir) if out_dir else None
         self.diverged = None                    # the Diverged exception, once the watchdog tripped
@@ -263,6 +277,9 @@ class Run:
         self.snapshots = 0
         self._snapshot_dt = spec["output.snapshot_interval"] if snapshots_dir else 0.0
         self._next_snapshot = 0.0
+        if restored is not None:
+            self.snapshots, self._next_snapshot = restored["snapshots"], restored["next_snapshot"]
+            self.diverged = restored["diverged"]
 
     @property
     def end(self):
@@ -337,13 +354,20 @@ class Run:
         return closed
 
 
-def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, recorder=None):
+def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, recorder=None, restart=None,
+              checkpoint=None, checkpoint_interval=0.0):
     """Run `spec` to its end time; returns the summary dict (also written to out_dir/summary.json if given).
 
     on_sample(sim, row) is called with the first row and after every outer step. recorder(sim), if given, makes
     a recorder (see Run.add_recorder) once the scene is built; it is closed at the end with how the run ended
     ('failed' for an unexpected exception). An exception from `on_sample` (the CLI's Ctrl-C: Interrupted) ends
-    the run: what was computed is still written, with status 'interrupted', before the exception goes on."""
+    the run: what was computed is still written, with status 'interrupted', before the exception goes on.
+
+    Checkpoints (checkpoint.py): `restart`, a state read by read_checkpoint, continues that run (spec is then
+    ignored: the checkpoint's scene is the run's). With `checkpoint` (a path), one is written every
+    `checkpoint_interval` of simulated time (0: none on the way) and when an Interrupted ends the run."""
+    if restart is not None:
+        spec = restart["sim"].spec
     end = end_time if end_time is not None else spec["scene.end_time"]
     progress = _Progress(end, sys.stderr.isatty() if progress is None else progress)
     out = Path(out_dir) if out_dir else None
@@ -352,10 +376,19 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, 
         (out / "snapshots").mkdir(exist_ok=True)
         for stale in ("summary.json", "timeseries.csv"):   # an earlier run's, never mistaken for this one's
             (out / stale).unlink(missing_ok=True)
-    run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None)
+    run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None, restored=restart)
     sim = run.sim
     if on_sample:
         run.add_hook(on_sample)
+    if checkpoint and checkpoint_interval > 0:
+        due = [sim.time + checkpoint_interval]
+
+        def write_when_due(s, _row):
+            if s.time >= due[0] - END_TOLERANCE:
+                write_checkpoint(run, checkpoint)
+                while due[0] <= s.time + END_TOLERANCE:
+                    due[0] += checkpoint_interval
+        run.add_hook(write_when_due, now=False)
     if recorder:
         run.add_recorder(recorder(sim))
     run.add_hook(lambda s, _row: progress.update(s), now=False)
@@ -366,7 +399,11 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, 
                 if not run.advance():
                     break
             status = recorder_status = "diverged" if run.diverged is not None else "finished"
-        except (Interrupted, KeyboardInterrupt):
+        except Interrupted:
+            if checkpoint:    # between outer steps: a state to continue from
+                write_checkpoint(run, checkpoint)
+            raise
+        except KeyboardInterrupt:
             raise
         except BaseException:
             recorder_status = "failed"

@@ -44,6 +44,16 @@ class Simulation:
         self._pending = {}
         self._build()
 
+    # ---- checkpoints (checkpoint.py): everything but the builder module, which is named -------------------
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state["builder"] = self.spec.builder
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.builder = BUILDERS[state["builder"]]
+
     # ---- construction -------------------------------------------------------------------------------------
     def _build(self):
         v = self.spec.values
