@@ -15,8 +15,9 @@ Threads:
   (on_end 'exit'); then stops the simulation thread, shuts the executor down and joins both. Exit status 0
   (2: bad startup parameters; 3: the run diverged with on_end 'exit'). A second signal while the current outer
   step finishes exits at once (status 130).
-- executor thread: services (~/reset, ~/pause, ~/step) and parameter callbacks. They validate, hand the runner
-  a command or a flag under its short lock and answer at once; they never wait for a step.
+- executor thread: services (~/reset, ~/pause, ~/step, ~/write_checkpoint) and parameter callbacks. They validate,
+  hand the runner a command or a flag under its short lock and answer at once; they never wait for a step, except
+  ~/write_checkpoint, which waits up to 5 s for the checkpoint to be written between two outer steps.
 - simulation thread (sph_fsi.runner): owns the simulation. Builds it, advances it one publish period at a time
   (whole outer steps of output.timeseries_interval), publishes after each period, and takes commands between
   outer steps.
@@ -145,6 +146,7 @@ class SphFsiNode(Node):
         self.create_service(Trigger, "~/reset", self._srv_reset)
         self.create_service(SetBool, "~/pause", self._srv_pause)
         self.create_service(Trigger, "~/step", self._srv_step)
+        self.create_service(Trigger, "~/write_checkpoint", self._srv_write_checkpoint)
 
     @property
     def exit_code(self):
@@ -271,6 +273,11 @@ class SphFsiNode(Node):
 
     def _srv_step(self, _request, response):
         response.success, response.message = self.runner.request_step()
+        return response
+
+    def _srv_write_checkpoint(self, _request, response):
+        """Between the next two outer steps; answers once written (or after 5 s, saying it is queued)."""
+        response.success, response.message = self.runner.request_checkpoint()
         return response
 
 

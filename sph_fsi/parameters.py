@@ -39,7 +39,15 @@ NODE_PARAMS = {p.key: p for p in [
     Param("out_dir", "", "", "Write timeseries.csv and summary.json (error against the scene's reference, wall "
           "time) here when the run ends, diverges, is reset or stopped ('' = off; <dir>_<n> after each reset)",
           kind="str"),
+    # Checkpoints (sph_fsi_core/checkpoint.py)
+    Param("restart_from", "", "", "At startup, continue the run this checkpoint holds (its scene and settings; "
+          "no scene keys with it) instead of building the scene at t = 0; a ~/reset then starts that scene "
+          "at t = 0 ('' = off; read at startup only)", kind="str"),
+    Param("checkpoint_path", "", "", "Where ~/write_checkpoint writes ('' = <out_dir>/checkpoint.ckpt)",
+          kind="str", rebuild=False),
 ]}
+# Node parameters read at startup only (a change later is refused).
+STARTUP_ONLY = ("restart_from",)
 RECORDING_PARAMS = ("mcap_path", "mcap_compression", "rrd_path", "rerun_connect", "record_interval", "out_dir")
 # Node parameters that apply at the next ~/reset (the others at once).
 AT_RESET = ("scene", "qos") + RECORDING_PARAMS
@@ -140,11 +148,23 @@ def startup_values(overrides):
             except SceneError as exc:
                 raise StartupError(str(exc)) from None
         node_values[key] = value
+    restored = None
     try:
-        base = load_scene(node_values["scene"] or None)
+        if node_values["restart_from"]:
+            from sph_fsi_core.checkpoint import read_checkpoint
+            restored = read_checkpoint(node_values["restart_from"])
+            base = restored["sim"].spec
+        else:
+            base = load_scene(node_values["scene"] or None)
     except SceneError as exc:
         raise StartupError(str(exc)) from None
     scene_params = scene_parameters(base)
+    if restored is not None:
+        given = [k for k in overrides if k in scene_params or k == "scene"]
+        if given:
+            raise StartupError(f"restart_from = {node_values['restart_from']!r} continues the checkpoint's own "
+                               f"scene and settings; allowed: no scene keys with it (given: {', '.join(given)})")
+        node_values["_restored"] = restored
     unknown = [k for k in overrides if k not in NODE_PARAMS and k not in scene_params and not is_foreign(k)]
     for key in unknown:
         try:
@@ -182,6 +202,8 @@ def check_changes(changes, scene_params, desired):
             except SceneError as exc:
                 msg = str(exc)
                 return (msg if msg.startswith(name) else f"{name} = {value!r}: {msg}"), None
+            if name in STARTUP_ONLY:
+                return f"{name}: read at startup only; allowed: set it when starting the node", None
             node_changes[name] = value
         elif name in scene_params:
             try:

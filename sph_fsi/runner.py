@@ -77,6 +77,8 @@ class Runner:
         self.exit_code = 0
         self.lock = self._cv = threading.Condition()   # guards the state below up to the thread-only state
         self.settings = dict(settings)          # node parameters in effect (those applied at reset: as built)
+        self._restored = self.settings.pop("_restored", None)   # a checkpoint's state to start from (restart_from)
+        self._checkpoints = []                  # (path or None, error or None) of each ~/write_checkpoint done
         self.desired = spec                     # every accepted scene-key value, live and deferred
         self._first_spec = spec
         self._commands = deque()
@@ -132,6 +134,37 @@ class Runner:
             self._commands.append(("reset",))
             self._cv.notify_all()
             return self.pending()
+
+    def request_checkpoint(self, timeout=5.0):
+        """Write a checkpoint of the run between its next two outer steps (on the simulation thread), to
+        checkpoint_path or <out_dir>/checkpoint.ckpt; waits up to `timeout` s. Returns (success, message)."""
+        path = self.settings["checkpoint_path"] or (os.path.join(self.settings["out_dir"], "checkpoint.ckpt")
+                                                    if self.settings["out_dir"] else "")
+        if not path:
+            return False, "no place to write it: set checkpoint_path (or out_dir)"
+        with self._cv:
+            ticket = len(self._checkpoints) + sum(1 for c in self._commands if c[0] == "checkpoint")
+            self._commands.append(("checkpoint", path))
+            self._cv.notify_all()
+            done = self._cv.wait_for(lambda: len(self._checkpoints) > ticket, timeout)
+            if not done:
+                return True, f"queued: a checkpoint goes to {path} after the current outer step"
+            written, error = self._checkpoints[ticket]
+        return (True, written) if error is None else (False, error)
+
+    def _write_checkpoint(self, path):
+        from sph_fsi_core.checkpoint import write_checkpoint
+        try:
+            write_checkpoint(self.run, path)
+            result = (f"checkpoint of t = {self.sim.time:.6g} s written to {path}; continue it with the node's "
+                      f"restart_from or sph-fsi run --restart {path}", None)
+            self.log.info(result[0])
+        except OSError as exc:
+            result = (None, f"checkpoint not written to {path}: {exc.strerror or exc}")
+            self.log.error(result[1])
+        with self._cv:
+            self._checkpoints.append(result)
+            self._cv.notify_all()
 
     def pending(self):
         """Keys accepted but waiting for the next reset, sorted."""
@@ -203,7 +236,8 @@ class Runner:
 
     def _loop(self):
         try:
-            self._build(self._first_spec)
+            self._build(self._first_spec, restored=self._restored)
+            self._restored = None
         except SceneError as exc:
             self.log.error(str(exc))
             self._end(EXIT_BAD_INPUT)
@@ -274,6 +308,8 @@ class Runner:
                 self._publish_diagnostics()
         elif kind == "reset":
             self._reset()
+        elif kind == "checkpoint":
+            self._write_checkpoint(cmd[1])
         elif kind == "step":
             with self._cv:
                 ok = self._paused and not self._finished and self._diverged is None
@@ -307,12 +343,15 @@ class Runner:
         # keys a changed solid.scheme expanded to)
         self.out.scene_changed(desired)
 
-    def _build(self, spec):
+    def _build(self, spec, restored=None):
         started = time.monotonic()
         cold = kernels_cached(spec.phases) is False
         if cold:
             self.log.info(COMPILING_LINE)
-        run = Run(spec)
+        run = Run(spec, restored=restored)
+        if restored is not None:
+            self.log.info(f"continuing '{spec.name}' from its checkpoint at t = {run.sim.time:.6g} s "
+                          f"({self.settings['restart_from']})")
         self._close_recorders("reset")
         self._write_summary("reset")
         self.run, self.sim = run, run.sim

@@ -65,4 +65,5 @@ def check(builder, values):
     if need > have:
         raise SceneError(f"numerics.spacing = {dp:g} m: the scene would have {particles:,} particles ({phases}), "
                          f"about {need / GIB:,.1f} GiB, and {have / GIB:,.1f} GiB of memory is available; allowed: "
-                         f"a coarser numerics.spacing, or --max-particles N to override the estimate")
+                         f"a coarser numerics.spacing, or --max-particles N (the node: {MAX_PARTICLES_ENV}=N) to "
+                         f"override the estimate")

@@ -110,6 +110,7 @@ class Peer:
         self.reset = self.node.create_client(Trigger, "/sph_fsi/reset")
         self.pause = self.node.create_client(SetBool, "/sph_fsi/pause")
         self.step = self.node.create_client(Trigger, "/sph_fsi/step")
+        self.write_checkpoint = self.node.create_client(Trigger, "/sph_fsi/write_checkpoint")
         self.set_params = self.node.create_client(SetParameters, "/sph_fsi/set_parameters")
         self.get_params = self.node.create_client(GetParameters, "/sph_fsi/get_parameters")
         self.executor = SingleThreadedExecutor(context=self.ctx)
@@ -270,6 +271,7 @@ def test_topics_and_services_exist_only_for_what_the_scene_has(node, peer):
     assert services["/sph_fsi/reset"] == ["std_srvs/srv/Trigger"]
     assert services["/sph_fsi/pause"] == ["std_srvs/srv/SetBool"]
     assert services["/sph_fsi/step"] == ["std_srvs/srv/Trigger"]
+    assert services["/sph_fsi/write_checkpoint"] == ["std_srvs/srv/Trigger"]
 
 
 def test_particles_and_walls_layout(node, peer):
@@ -480,7 +482,7 @@ def test_parameters_refused_applied_and_deferred(node, peer):
     # too fine for this machine's memory: refused at once, naming the spacing, the particles and the memory
     result, _ = peer.set_param("numerics.spacing", 1.0e-5)
     assert not result.successful and "numerics.spacing = 1e-05" in result.reason, result.reason
-    assert "960,984,000 particles" in result.reason and "GiB of memory is available" in result.reason, result.reason
+    assert "144,484,800 particles" in result.reason and "GiB of memory is available" in result.reason, result.reason
     result, _ = peer.set_param("qos", "fast")
     assert not result.successful and "qos" in result.reason
     assert peer.get_param("solid.young_modulus") == 1.859e6
@@ -554,6 +556,35 @@ def test_parameters_refused_applied_and_deferred(node, peer):
         time.sleep(0.05)
     assert peer.get_param("solid.velocity_gradient") == "quadratic"
     assert peer.get_param("solid.nodal_integration") == "gradient"
+
+
+def test_write_checkpoint_then_a_node_restarts_from_it(node, peer, tmp_path):
+    """~/write_checkpoint writes the running state (paused here, so its time is known); a second node started with
+    restart_from continues from that time and ends at its end_time; restart_from is read at startup only, and
+    with a scene key, or a file that is not a checkpoint, the node refuses to start (exit 2, one line)."""
+    peer.call(peer.pause, SetBool.Request(data=True))
+    _wait_until_quiet(peer)
+    t = peer.last_clock()
+    response, _ = peer.call(peer.write_checkpoint, Trigger.Request())
+    assert response.success, response.message
+    path = str(node.run_log / "checkpoint.ckpt")
+    assert f"checkpoint of t = {t:.6g} s written to {path}" in response.message, response.message
+    result, _ = peer.set_param("restart_from", path)
+    assert not result.successful and "startup only" in result.reason, result.reason
+    proc = NodeProcess(SIGNAL_DOMAIN, [("restart_from", path), ("end_time", round(t + 0.002, 9)),
+                                       ("on_end", "exit")], module=False)
+    assert proc.proc.wait(FIRST_CLOCK_TIMEOUT) == 0, proc.stderr()
+    err = proc.stderr()
+    assert f"continuing 'cantilever' from its checkpoint at t = {t:.6g} s" in err, err
+    assert f"finished at t = {t + 0.002:.6g} s" in err, err
+    refused = NodeProcess(SIGNAL_DOMAIN, [("restart_from", path), ("solid.young_modulus", 2.0e6)], module=False)
+    assert refused.proc.wait(60.0) == 2
+    line = refused.stderr().strip().splitlines()[-1]
+    assert "restart_from" in line and "solid.young_modulus" in line, line
+    (tmp_path / "not.ckpt").write_text("hello\n")
+    refused = NodeProcess(SIGNAL_DOMAIN, [("restart_from", str(tmp_path / "not.ckpt"))], module=False)
+    assert refused.proc.wait(60.0) == 2
+    assert "not an sph_fsi checkpoint" in refused.stderr().strip().splitlines()[-1]
 
 
 def test_end_of_run_exits_with_status_0():
