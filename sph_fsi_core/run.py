@@ -18,6 +18,7 @@ import numpy as np
 
 from .checkpoint import write_checkpoint
 from .diagnostics import Diverged
+from .vtk_snapshots import write_vtk_snapshot
 from .simulation import Simulation
 from .numerics.tensors import COMPONENT_NAMES
 
@@ -325,7 +326,11 @@ class Run:
             self.log.add_stepping(time.perf_counter() - t0)
 
     def _write_snapshot(self):
-        write_snapshot(self.sim, self.snapshots_dir / f"snapshot_{self.snapshots:05d}.npz", self.snapshots)
+        fmt = self.sim.spec["output.snapshot_format"]
+        if fmt in ("npz", "both"):
+            write_snapshot(self.sim, self.snapshots_dir / f"snapshot_{self.snapshots:05d}.npz", self.snapshots)
+        if fmt in ("vtk", "both"):
+            write_vtk_snapshot(self.sim, self.snapshots_dir, self.snapshots)
         self.snapshots += 1
 
     def finish(self, status):

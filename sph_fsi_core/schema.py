@@ -125,6 +125,9 @@ COMMON = [
        low=0.0, low_inclusive=False, high=1.0),
     _p("output.timeseries_interval", 5.0e-4, "s", "Sampling interval of probes and energies (timeseries.csv)",
        low=1.0e-7, high=1.0, rebuild=False),
+    _p("output.snapshot_format", "npz", "", "Snapshot files: 'npz' (NumPy arrays), 'vtk' (ParaView: .vtu per "
+       "phase and a .pvd time series, sph_fsi_core/vtk_snapshots.py) or 'both'", kind="str",
+       choices=("npz", "vtk", "both"), rebuild=False),
     _p("output.snapshot_interval", 0.01, "s", "Interval of particle snapshots (0: none)", low=0.0, high=10.0,
        rebuild=False),
     _p("watchdog.max_speed", 100.0, "m/s", "A moving particle faster than this stops the run as diverged",
