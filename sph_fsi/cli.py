@@ -255,8 +255,20 @@ def _print_summary(s, out):
 
 def _cmd_validate(args):
     from sph_fsi_core.validation.ladder import main as validate_main
+    _check_workers(args)
     return validate_main(args.cases, quick=args.quick, workers=args.workers, out_dir=args.out,
-                         report_only=args.report_only, missing=args.missing)
+                         report_only=args.report_only, missing=args.missing, scheduler=args.scheduler)
+
+
+def _check_workers(args):
+    if args.workers < 1:
+        raise ValueError(f"--workers {args.workers}: allowed: at least 1")
+
+
+def _cmd_sweep(args):
+    from sph_fsi_core.validation.sweep import main as sweep_main
+    _check_workers(args)
+    return sweep_main(args)
 
 
 def _cmd_stability(args):
@@ -308,7 +320,10 @@ def build_parser():
     p = sub.add_parser("validate", help="accuracy study: error against run time over resolution ladders")
     p.add_argument("cases", nargs="*", help="cases to run (default: all)")
     p.add_argument("--quick", action="store_true", help="coarse rungs only, asserting error bounds (CI)")
-    p.add_argument("--workers", type=int, default=1, help="cases run in parallel processes")
+    p.add_argument("--workers", type=int, default=1,
+                   help="runs at once, as tasks on a local Dask cluster of this many processes (default 1: here)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run on an existing Dask cluster (tcp://host:8786; see sph_fsi_core/validation/tasks.py)")
     p.add_argument("--out", default=DEFAULT_OUT_DIR,
                    help=f"where REPORT.md, plots and runs go (default {DEFAULT_OUT_DIR}; --out docs/validation "
                         f"publishes into the project's committed report)")
@@ -316,6 +331,18 @@ def build_parser():
     p.add_argument("--missing", action="store_true",
                    help="run only the rungs that have no summary.json in --out yet (finish a stopped ladder)")
     p.set_defaults(func=_cmd_validate)
+    p = sub.add_parser("sweep", help="parameter study: one run per combination of --vary values, one table")
+    p.add_argument("scene", help="built-in scene name or YAML file")
+    p.add_argument("--vary", action="append", required=True, metavar="KEY=V1,V2,...",
+                   help="a scene key and its values (repeatable: every combination runs)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene key for every run")
+    p.add_argument("--end-time", type=float, default=None, help="simulated end time of every run [s]")
+    p.add_argument("--out", default="runs/sweep", help="where runs/ and sweep.csv go (default runs/sweep)")
+    p.add_argument("--workers", type=int, default=1,
+                   help="runs at once, as tasks on a local Dask cluster of this many processes (default 1: here)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run on an existing Dask cluster (tcp://host:8786; see sph_fsi_core/validation/tasks.py)")
+    p.set_defaults(func=_cmd_sweep)
     p = sub.add_parser("stability", help="stiff and extreme cases: the outcome of each (stable, refused, diverged)")
     p.add_argument("names", nargs="*", help="run only cases whose name contains one of these")
     p.add_argument("--ci", action="store_true", help="the CI subset only")

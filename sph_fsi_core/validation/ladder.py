@@ -7,8 +7,6 @@ rebuilt without rerunning (`--report-only`). `--quick` runs only the coarse rung
 the bound stated with the rung; it is part of CI.
 """
 import json
-import multiprocessing
-import os
 import shutil
 import sys
 import time
@@ -16,6 +14,7 @@ from pathlib import Path
 
 from . import DEFAULT_OUT_DIR
 from .cases import CASE_GROUPS, all_rungs, cantilever_end_time
+from .tasks import map_runs
 
 
 def rung_dir(out_dir, rung):
@@ -45,12 +44,12 @@ def same_run(rung):
     return rung.scene, repr(sorted(values.items())), rung.periods, rung.end_time
 
 
-def run_rungs(rungs, out_dir, workers=1):
+def run_rungs(rungs, out_dir, workers=1, scheduler=None):
     first = {}
     for r in rungs:
         first.setdefault(same_run(r), r)
     repeats = [r for r in rungs if first[same_run(r)] is not r]
-    summaries = _run_distinct([r for r in rungs if r not in repeats], out_dir, workers)
+    summaries = _run_distinct([r for r in rungs if r not in repeats], out_dir, workers, scheduler)
     for r in repeats:
         source = rung_dir(out_dir, first[same_run(r)])
         target = rung_dir(out_dir, r)
@@ -60,23 +59,10 @@ def run_rungs(rungs, out_dir, workers=1):
     return summaries
 
 
-def _run_distinct(rungs, out_dir, workers):
-    jobs = [(r, out_dir) for r in rungs]
-    if workers > 1:
-        # Rungs are independent. Each worker gets cores / workers Numba threads: more threads than cores makes
-        # OpenMP's spinning threads wait on each other and runs several times slower, not a little.
-        threads = max(1, (os.cpu_count() or 1) // workers)
-        saved = os.environ.get("NUMBA_NUM_THREADS")
-        os.environ["NUMBA_NUM_THREADS"] = str(threads)     # spawned workers inherit the environment
-        try:
-            with multiprocessing.get_context("spawn").Pool(workers) as pool:
-                return pool.map(run_rung, jobs, chunksize=1)
-        finally:
-            if saved is None:
-                os.environ.pop("NUMBA_NUM_THREADS", None)
-            else:
-                os.environ["NUMBA_NUM_THREADS"] = saved
-    return [run_rung(j) for j in jobs]
+def _run_distinct(rungs, out_dir, workers, scheduler=None):
+    """Rungs are independent: tasks on a Dask cluster (validation/tasks.py) with more than one worker or a
+    scheduler, else one after the other here."""
+    return map_runs(run_rung, [(r, out_dir) for r in rungs], workers, scheduler)
 
 
 def load_summaries(out_dir, rungs):
@@ -88,7 +74,8 @@ def load_summaries(out_dir, rungs):
     return found
 
 
-def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=False, missing=False):
+def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=False, missing=False,
+         scheduler=None):
     """`sph-fsi validate`: run the cases' rungs (`missing`: only those without a summary.json in out_dir yet),
     write the report, and return 0, or 1 if a rung did not finish stably (or, with `quick`, is above its bound)."""
     cases = tuple(c for name in cases for c in CASE_GROUPS.get(name, (name,)))
@@ -101,7 +88,7 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
         todo = [r for r in rungs if not (missing and (rung_dir(out_dir, r) / "summary.json").exists())]
         print(f"sph-fsi validate: {len(todo)} run(s) into {out_dir}/runs/"
               + (f" ({len(rungs) - len(todo)} already there)" if missing else ""), flush=True)
-        run_rungs(todo, out_dir, workers)
+        run_rungs(todo, out_dir, workers, scheduler)
     from .report import write_report
     # The report covers the cases asked for (all of them by default), so a fluid-only report does not list the
     # cantilever's rungs as "not run".
