@@ -12,11 +12,11 @@ Builder module interface:
     evaluate(series, values)    {measured quantities, reference, error} from the run's time series
     sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure
 """
-from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, clamped_plate, dam_break, elastic_gate,
-               hydrostatic, hydrostatic_plate)
+from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
+               dam_break, elastic_gate, hydrostatic, hydrostatic_plate)
 
 BUILDERS = {"cantilever": cantilever, "clamped_plate": clamped_plate, "hydrostatic": hydrostatic,
             "dam_break": dam_break, "elastic_gate": elastic_gate, "antoci_gate": antoci_gate,
             "hydrostatic_plate": hydrostatic_plate, "antoci_gate_static": antoci_gate_static,
-            "antoci_gate_loaded": antoci_gate_loaded}
+            "antoci_gate_loaded": antoci_gate_loaded, "cantilever_loaded": cantilever_loaded}
 DEFAULT_SCENE = "cantilever"

@@ -175,3 +175,56 @@ def antoci_gate_tip(component):
                  "z": ("antoci2007_exp_gate_tip_y.csv", "y_m")}[component]
     rows = read_reference_csv(name)
     return np.array([r["time_s"] for r in rows]), np.array([r[col] for r in rows])
+
+
+def _elastica_shoot(alpha, curvature0, steps, distributed=False):
+    """theta'' = -alpha w(s) cos(theta) from the clamp (theta = 0, theta' = curvature0) along s in [0, 1] (RK4),
+    w = 1 (a tip load) or 1 - s (a distributed load); returns theta(1), theta'(1), and the integrals of sin(theta)
+    and cos(theta) (Simpson)."""
+    h = 1.0 / steps
+    theta, kappa = 0.0, curvature0
+    sines, cosines = [0.0], [1.0]
+    w = (lambda s: 1.0 - s) if distributed else (lambda s: 1.0)   # noqa: E731
+    for i in range(steps):
+        s0 = i * h
+        k1t, k1k = kappa, -alpha * w(s0) * math.cos(theta)
+        k2t, k2k = kappa + 0.5 * h * k1k, -alpha * w(s0 + 0.5 * h) * math.cos(theta + 0.5 * h * k1t)
+        k3t, k3k = kappa + 0.5 * h * k2k, -alpha * w(s0 + 0.5 * h) * math.cos(theta + 0.5 * h * k2t)
+        k4t, k4k = kappa + h * k3k, -alpha * w(s0 + h) * math.cos(theta + h * k3t)
+        theta += h / 6.0 * (k1t + 2 * k2t + 2 * k3t + k4t)
+        kappa += h / 6.0 * (k1k + 2 * k2k + 2 * k3k + k4k)
+        sines.append(math.sin(theta))
+        cosines.append(math.cos(theta))
+    weights = [1.0] + [4.0 if i % 2 else 2.0 for i in range(1, steps)] + [1.0]
+    integral = lambda values: h / 3.0 * sum(w * v for w, v in zip(weights, values))   # noqa: E731
+    return theta, kappa, integral(sines), integral(cosines)
+
+
+@lru_cache(maxsize=64)
+def elastica_tip(alpha, steps=2000, distributed=False):
+    """A cantilever (clamped at s = 0, free at s = L) under a dead load P across its axis at the free end, with
+    exact rotation (Euler-Bernoulli, inextensible, no shear): EI theta'' = -P cos(theta), theta(0) = 0, theta'(L) =
+    0; alpha = P L^2 / (E I). Returns {deflection, pull_back (1 - x_tip / L), rotation (rad)} of the free end, over
+    L. Solved here by shooting on the clamp's curvature (bisection on [0, alpha], RK4 with `steps` steps); Bisshopp
+    & Drucker 1945 (Q. Appl. Math. 3, 272) tabulate alpha = 1: 0.3017, 0.0566 (test_cantilever_loaded.py checks).
+    distributed: a dead load q per length along the beam instead, EI theta'' = -q (L - s) cos(theta), alpha =
+    q L^3 / (E I) (small alpha: deflection alpha / 8)."""
+    if alpha <= 0.0:
+        return {"deflection": 0.0, "pull_back": 0.0, "rotation": 0.0}
+    lo, hi = 0.0, alpha          # theta'(0) = P x_tip / (E I) <= alpha
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _elastica_shoot(alpha, mid, 200, distributed)[1] > 0.0:   # moment left at the free end: too much curvature
+            hi = mid
+        else:
+            lo = mid
+    # refine on the fine grid around the coarse root
+    lo, hi = 0.98 * lo, min(alpha, 1.02 * hi + 1e-12)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if _elastica_shoot(alpha, mid, steps, distributed)[1] > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    theta, _, sin_integral, cos_integral = _elastica_shoot(alpha, 0.5 * (lo + hi), steps, distributed)
+    return {"deflection": sin_integral, "pull_back": 1.0 - cos_integral, "rotation": theta}
