@@ -136,7 +136,7 @@ def _cmd_run(args):
     if args.end_time is not None:
         spec = spec.with_overrides({"scene.end_time": args.end_time})
         if restart is not None:
-            restart["sim"].spec = restart["sim"].spec.with_overrides({"scene.end_time": args.end_time})
+            restart["sim"].spec = spec
     out = _check_out_dir(args.out or Path("runs") / spec.name)
     checkpoint = Path(args.checkpoint) if args.checkpoint else out / "checkpoint.ckpt"
     if args.checkpoint:
@@ -276,6 +276,14 @@ def _cmd_stability(args):
     return stability_main(ci=args.ci, out_dir=args.out, names=args.names)
 
 
+def _add_task_options(p):
+    """--workers and --scheduler of the commands that run many runs (validate, sweep)."""
+    p.add_argument("--workers", type=int, default=1,
+                   help="runs at once, as tasks on a local Dask cluster of this many processes (default 1: here)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="run on an existing Dask cluster (tcp://host:8786; see sph_fsi_core/validation/tasks.py)")
+
+
 def build_parser():
     from sph_fsi_core.validation import DEFAULT_OUT_DIR
     parser = argparse.ArgumentParser(prog="sph-fsi", description="3D SPH fluid-structure simulator (Satake et al.)")
@@ -320,10 +328,7 @@ def build_parser():
     p = sub.add_parser("validate", help="accuracy study: error against run time over resolution ladders")
     p.add_argument("cases", nargs="*", help="cases to run (default: all)")
     p.add_argument("--quick", action="store_true", help="coarse rungs only, asserting error bounds (CI)")
-    p.add_argument("--workers", type=int, default=1,
-                   help="runs at once, as tasks on a local Dask cluster of this many processes (default 1: here)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="run on an existing Dask cluster (tcp://host:8786; see sph_fsi_core/validation/tasks.py)")
+    _add_task_options(p)
     p.add_argument("--out", default=DEFAULT_OUT_DIR,
                    help=f"where REPORT.md, plots and runs go (default {DEFAULT_OUT_DIR}; --out docs/validation "
                         f"publishes into the project's committed report)")
@@ -338,10 +343,7 @@ def build_parser():
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a scene key for every run")
     p.add_argument("--end-time", type=float, default=None, help="simulated end time of every run [s]")
     p.add_argument("--out", default="runs/sweep", help="where runs/ and sweep.csv go (default runs/sweep)")
-    p.add_argument("--workers", type=int, default=1,
-                   help="runs at once, as tasks on a local Dask cluster of this many processes (default 1: here)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="run on an existing Dask cluster (tcp://host:8786; see sph_fsi_core/validation/tasks.py)")
+    _add_task_options(p)
     p.set_defaults(func=_cmd_sweep)
     p = sub.add_parser("stability", help="stiff and extreme cases: the outcome of each (stable, refused, diverged)")
     p.add_argument("names", nargs="*", help="run only cases whose name contains one of these")

@@ -46,27 +46,28 @@ def _layers(extent, spacing, key):
     return n
 
 
-def check(values):
+def layer_counts(values):
+    """(nl, nh, nw): layers along the length, through the thickness and across the width (SceneError if one is
+    not whole or below 2)."""
     dp = values["numerics.spacing"]
-    for key in ("geometry.length", "geometry.thickness", "geometry.width"):
-        _layers(values[key], dp, key)
+    return tuple(_layers(values[key], dp, key) for key in ("geometry.length", "geometry.thickness",
+                                                            "geometry.width"))
+
+
+def check(values):
+    layer_counts(values)
 
 
 def particle_counts(values):
     """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    dp = values["numerics.spacing"]
-    nl = _layers(values["geometry.length"], dp, "geometry.length")
-    nh = _layers(values["geometry.thickness"], dp, "geometry.thickness")
-    nw = _layers(values["geometry.width"], dp, "geometry.width")
+    nl, nh, nw = layer_counts(values)
     ncl, margin = values["geometry.clamp_layers"], values["geometry.clamp_margin"]
     return {"solid": nl * nw * nh + ncl * nw * (nh + 2 * margin)}
 
 
 def build(values):
     dp = values["numerics.spacing"]
-    nl = _layers(values["geometry.length"], dp, "geometry.length")
-    nh = _layers(values["geometry.thickness"], dp, "geometry.thickness")
-    nw = _layers(values["geometry.width"], dp, "geometry.width")
+    nl, nh, nw = layer_counts(values)
     ncl, margin = values["geometry.clamp_layers"], values["geometry.clamp_margin"]
     y = (np.arange(nw) + 0.5) * dp - 0.5 * nw * dp
     z = (np.arange(nh) + 0.5) * dp - 0.5 * nh * dp

@@ -8,10 +8,10 @@ alpha L / 8; at alpha = 4 the free end drops 0.43 L and turns 34 degrees, at 8 0
 Antoci's gate, whose free end opens 36-46 mm over 79 mm), or a force P on the free end's last layer (alpha =
 P L^2 / (E I): at alpha = 2, 0.49 L and 45 degrees). Measured: both schemes lose the loaded tip layer at
 alpha = 2 on a beam of L/H = 5 (it tears off the beam: a concentrated dead load on one particle layer), so the
-distributed load is the case. Judged on the settled free end (mean of the last
-quarter) against the elastica of the same load at the load's arm: the tip layer's centres sit dp/2 short of the free
-end, so the reference is the elastica of length L - dp/2 under P (alpha scaled by ((L - dp/2) / L)^2) (validation/references.py: Euler-Bernoulli with exact rotation,
-no shear): its vertical and horizontal displacement. What a 3D beam of L/H = 10 adds to the elastica (shear,
+distributed load is the case. Judged on the settled free end (the tip layer's mean over the last quarter) against
+the elastica of the same load (validation/references.py: Euler-Bernoulli with exact rotation, no shear), its
+vertical and horizontal displacement; a tip load acts on the last layer's centres, dp/2 short of the free end, so
+its reference is the elastica of length L - dp/2 under the same P. What a 3D beam of L/H = 10 adds to the elastica (shear,
 the width's bending stiffness, the clamp) is about the same at every load, so the change of the error from the
 linear rung to the large one is what large rotation does to the solid scheme.
 """
@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from ..schema import Param
-from ..validation.references import elastica_tip
+from ..validation.references import beam_theory_frequency, elastica_tip
 from . import cantilever
 from .cantilever import particle_counts  # noqa: F401  (builder interface)
 
@@ -48,11 +48,9 @@ def check(values):
 
 
 def first_mode_omega(values):
-    """Euler-Bernoulli first bending mode of the beam, rad/s: (1.8751)^2 sqrt(E I / (rho A L^4))."""
-    length, thickness, width = (values[f"geometry.{k}"] for k in ("length", "thickness", "width"))
-    inertia = width * thickness ** 3 / 12.0
-    return 1.875104 ** 2 * math.sqrt(values["solid.young_modulus"] * inertia
-                                     / (values["solid.density"] * width * thickness * length ** 4))
+    """Euler-Bernoulli first bending mode of the beam, rad/s (references.beam_theory_frequency)."""
+    return 2.0 * math.pi * beam_theory_frequency(values["geometry.length"], values["geometry.thickness"],
+                                                 values["solid.young_modulus"], values["solid.density"])
 
 
 def total_load(values):

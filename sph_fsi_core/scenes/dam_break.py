@@ -54,19 +54,22 @@ def check(values):
     check_walls_and_span(values)
 
 
+def _sites(values):
+    """(nx, nz, ntank): the column's sites along x and z and the tank's inside along x."""
+    dp = values["numerics.spacing"]
+    return (tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width"),
+            tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height"),
+            int(round(values["geometry.tank_length"] / dp)))
+
+
 def particle_counts(values):
     """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    dp = values["numerics.spacing"]
-    nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width")
-    nz = tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height")
-    return tank.column_in_tank_counts(values, nx, nz, int(round(values["geometry.tank_length"] / dp)))
+    return tank.column_in_tank_counts(values, *_sites(values))
 
 
 def build(values):
     dp = values["numerics.spacing"]
-    nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width")
-    nz = tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height")
-    ntank = int(round(values["geometry.tank_length"] / dp))
+    nx, nz, ntank = _sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
     return tank.column_in_tank(values, nx, nz, ntank, margin=wall_top)
 

@@ -59,18 +59,22 @@ def check_walls_and_span(values):
                              f"least twice the neighbour cutoff (2h + skin) wide; allowed: at least {need}")
 
 
+def _sites(values):
+    """(nx, nz): the water's sites along x (the tank's inside too) and z."""
+    dp = values["numerics.spacing"]
+    return (tank.whole_layers(values["geometry.width"], dp, "geometry.width"),
+            tank.whole_layers(values["geometry.depth"], dp, "geometry.depth"))
+
+
 def particle_counts(values):
     """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    dp = values["numerics.spacing"]
-    nx = tank.whole_layers(values["geometry.width"], dp, "geometry.width")
-    nz = tank.whole_layers(values["geometry.depth"], dp, "geometry.depth")
+    nx, nz = _sites(values)
     return tank.column_in_tank_counts(values, nx, nz, nx)
 
 
 def build(values):
     dp = values["numerics.spacing"]
-    nx = tank.whole_layers(values["geometry.width"], dp, "geometry.width")
-    nz = tank.whole_layers(values["geometry.depth"], dp, "geometry.depth")
+    nx, nz = _sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
     return tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
 
