@@ -23,6 +23,7 @@ from .solid.gradient_integration import gradient_strain_energy
 from .solid.fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .solid.stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params, mirror_clamp_velocities,
                             solid_acceleration, solid_leapfrog)
+from .numerics.jit_cache import start_parallel_runtime
 from .numerics.kernels import SUPPORT_RADIUS_IN_H
 from .scenes.built import check_layout
 from .scenes.tank import lattice_density_scale
@@ -42,6 +43,7 @@ class Simulation:
         self.spec = spec
         self.builder = BUILDERS[spec.builder]
         self._pending = {}
+        start_parallel_runtime()
         self._build()
 
     # ---- checkpoints (checkpoint.py): everything but the builder module, which is named -------------------
@@ -53,6 +55,7 @@ class Simulation:
     def __setstate__(self, state):
         self.__dict__.update(state)
         self.builder = BUILDERS[state["builder"]]
+        start_parallel_runtime()     # a restored run's first kernel is a cached caller of parallel ones
 
     # ---- construction -------------------------------------------------------------------------------------
     def _build(self):

@@ -176,7 +176,8 @@ def test_fe3d_computed_on_demand_and_cached(monkeypatch, tmp_path):
     fe, label = fe3d_frequency(*args)
     assert label == "fe3d_extrapolated (computed)"
     direct = fe_reference.cantilever_fe_nondimensional(3.0, 0.5, 0.3)
-    assert fe == pytest.approx(direct["frequency"] * math.sqrt(1.859e6 / 1000.0) / 0.004, rel=1e-12)
+    # the same eigenproblem solved twice: equal to LAPACK's rounding (threaded BLAS differs in the 12th digit)
+    assert fe == pytest.approx(direct["frequency"] * math.sqrt(1.859e6 / 1000.0) / 0.004, rel=1e-9)
     meshes = direct["mesh_frequencies"]
     assert meshes[0] > meshes[1] > meshes[2] > direct["frequency"]   # the meshes converge from above
     assert 1.0 < direct["order"] < 3.0

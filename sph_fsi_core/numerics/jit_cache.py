@@ -39,3 +39,15 @@ def kernels_cached(phases):
         return True
     except (AttributeError, OSError, TypeError, ValueError):
         return None
+
+
+def start_parallel_runtime():
+    """Start Numba's threading layer now, before any kernel runs.
+
+    A cached kernel compiled without parallel=True that calls a parallel=True one (solid_leapfrog and its passes)
+    is loaded from the cache with the threading layer's entry points still unset when it is the first compiled code
+    a process calls: it then jumps to address 0 (numba/numba#8578, #4807, open). A fresh build calls a parallel kernel
+    first and starts the layer on the way; a run restored from a checkpoint (checkpoint.py) calls solid_leapfrog
+    first, which crashed. Starting the layer is idempotent and takes microseconds once started."""
+    from numba.np.ufunc import parallel
+    parallel._launch_threads()
