@@ -154,6 +154,7 @@ class RunLog:
             "fluid_steps": sim.fluid_steps, "fluid_dt_s": sim.last_fluid_dt,
             "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
             "fluid_particles_lost": int(sim.fluid_lost.sum()) if sim.fluid is not None else 0,
+            **({"settling": sim.settled} if getattr(sim, "settled", None) else {}),
             "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
             "fluid_particle_iterations": fluid_particle_iterations,
             "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s

@@ -224,6 +224,10 @@ FLUID = [
        "the limit falls below it during the run", low=0.0, high=1.0, rebuild=False),
     _p("fluid.min_time_step", 1.0e-7, "s", "A stable fluid step below this stops the run as diverged",
        low=0.0, low_inclusive=False, high=1.0, rebuild=False),
+    _p("fluid.settle_time", 0.0, "s",
+       "Before t = 0 the water settles at rest for this long (the solid held as built, the scene's release plates "
+       "holding the water: a dam break's gate, the gap under a gate), all released at t = 0; 0: the water starts "
+       "on its lattice with no pressure (the paper)", low=0.0, high=10.0),
     _p("fluid.max_density_error", 0.2, "1",
        "A step ending with max compression above this stops the run as diverged (watchdog)", low=0.0,
        low_inclusive=False, high=10.0, rebuild=False),

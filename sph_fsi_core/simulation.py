@@ -17,6 +17,7 @@ from .diagnostics import Diverged, Watchdog, kinetic_energy
 from .fluid.stepper import FluidSolver
 from .numerics.neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
+from .state import WallState
 from .scenes import BUILDERS
 from .solid.gray2001 import material_constants, strain_energy
 from .solid.gradient_integration import gradient_strain_energy
@@ -34,6 +35,9 @@ _NO_EXTERNAL = np.zeros((0, 3))
 _NO_MIRROR = np.zeros(0, dtype=np.int64)
 # the largest solid.cfl run with the quadratic fit: 0.35 held on the paper's beam (0.3 in its gate), 0.4 diverged
 QUADRATIC_FIT_TESTED_CFL = 0.35
+# the settling phase's velocity relaxation, rate = SETTLE_RELAXATION / fluid.settle_time: a velocity's memory falls
+# to e^-10 over the phase, and the column still sinks into its compression (at g / rate, 0.1 m/s for 0.1 s)
+SETTLE_RELAXATION = 10.0
 
 
 class Simulation:
@@ -113,25 +117,77 @@ class Simulation:
         self._interval_stats = {}
         self._fluid_dt_clamped = False
         self.coupling = None   # only with both a solid and a fluid (coupling.py)
+        self.settled = None    # what the settling phase did (fluid.settle_time > 0), for the summary
         if self.fluid is not None:
+            settle_time = v["fluid.settle_time"]
+            held = built.release_walls if settle_time > 0.0 else None
+            self._start_fluid(built, held)
+            if settle_time > 0.0:
+                self.settled = self._settle_water(settle_time)
+                self._start_fluid(built, None)   # the release: the plates are gone, the solid is free
             self._fluid_initial_positions = self.fluid.pos.copy()
             self.fluid_lost = np.zeros(self.fluid.count, dtype=np.bool_)   # left the domain: held still
             self._fluid_lost_at = np.zeros((self.fluid.count, 3))
-            fluid_walls = self.walls
-            if self.solid is not None:
-                self.coupling = Coupling(self.solid, self.fluid, self.walls, self.h, self.period,
-                                         v["fluid.density"], lattice_density_scale(v["numerics.smoothing_ratio"]),
-                                         model=v["coupling.model"], gamma=v["coupling.gamma"],
-                                         substeps=v["coupling.substeps"],
-                                         surface_threshold=v["coupling.surface_threshold"],
-                                         skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
-                                         box_hi=built.domain_hi)
-                fluid_walls = self.coupling.boundary   # the solid is a moving wall of the fluid
-            self.fluid_solver = FluidSolver(self.fluid, fluid_walls, self.h, self.period, built.domain_lo,
-                                            built.domain_hi, v["numerics.neighbour_skin"] * self.h)
-            self._apply_fluid_settings()
-            self.last_density_error, self.last_density_error_mean = self.fluid_solver.density()
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
+
+    def _start_fluid(self, built, held):
+        """The fluid solver and (with a solid) the coupling, against the tank's walls plus `held`: the scene's
+        release plates (Built.release_walls) while the water settles, None from t = 0."""
+        v = self.spec.values
+        walls = self.walls
+        if held is not None:
+            walls = WallState(pos=np.concatenate([walls.pos, held.pos]) if walls is not None else held.pos,
+                              mass=np.concatenate([walls.mass, held.mass]) if walls is not None else held.mass,
+                              rho0=held.rho0)
+        fluid_walls = walls
+        if self.solid is not None:
+            self.coupling = Coupling(self.solid, self.fluid, walls, self.h, self.period,
+                                     v["fluid.density"], lattice_density_scale(v["numerics.smoothing_ratio"]),
+                                     model=v["coupling.model"], gamma=v["coupling.gamma"],
+                                     substeps=v["coupling.substeps"],
+                                     surface_threshold=v["coupling.surface_threshold"],
+                                     skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
+                                     box_hi=built.domain_hi)
+            fluid_walls = self.coupling.boundary   # the solid is a moving wall of the fluid
+        self.fluid_solver = FluidSolver(self.fluid, fluid_walls, self.h, self.period, built.domain_lo,
+                                        built.domain_hi, v["numerics.neighbour_skin"] * self.h)
+        self._apply_fluid_settings()
+        self.last_density_error, self.last_density_error_mean = self.fluid_solver.density()
+
+    def _settle_water(self, duration):
+        """The water's start at rest under gravity (fluid.settle_time; METHOD sec. 2's steps, before t = 0).
+
+        A column built on the lattice has no compression and so no pressure: released at once it falls freely
+        until it is compressed to the density tolerance, and its load on walls and solid overshoots for tens of
+        milliseconds (docs/validation/OPEN.md, 1.3). An experiment's water at rest is already at hydrostatic
+        pressure. So before t = 0 the fluid steps alone for `duration` (the solid held where it was built, the
+        scene's release plates in place), its velocity relaxed as dv/dt = -c v with c = SETTLE_RELAXATION /
+        duration; then velocities are set to zero and the clock starts. Returns what the phase did."""
+        solver = self.fluid_solver
+        rate = SETTLE_RELAXATION / duration
+        wall0 = _time.perf_counter()
+        done, steps, iterations, capped = 0.0, 0, 0, 0
+        while duration - done > 1e-12 * duration:
+            remaining = duration - done
+            n = max(1, math.ceil(remaining / self._fluid_dt(-remaining) * (1.0 - 1e-12)))
+            dt = remaining / n
+            if self.coupling is not None:
+                self.coupling.before_fluid_step(solver)
+            report = solver.step(dt)
+            self.fluid.vel *= math.exp(-rate * dt)
+            done += dt
+            steps += 1
+            iterations += report.iterations
+            capped += int(report.capped)
+        speed = float(np.sqrt((self.fluid.vel ** 2).sum(axis=1).max())) if self.fluid.count else 0.0
+        self.fluid.vel[:] = 0.0
+        if capped:
+            self.warnings.append(f"settling before t = 0: {capped} of {steps} fluid step(s) reached "
+                                 f"fluid.max_iterations = {self.spec['fluid.max_iterations']}")
+        return {"settle_time_s": duration, "fluid_steps": steps, "iterations_mean": iterations / max(steps, 1),
+                "capped_steps": capped, "relaxation_rate_per_s": rate, "residual_max_speed_m_s": speed,
+                "density_error_max": float(report.error_max), "density_error_mean": float(report.error_mean),
+                "wall_time_s": _time.perf_counter() - wall0}
 
     def _clamp_mirror(self, built, clamp):
         """The ghost clamp's mirror map for solid.clamp = mirrored; empty (the fixed clamp) otherwise."""

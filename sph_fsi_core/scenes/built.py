@@ -25,6 +25,9 @@ class Built:
     damping_rate: float = 0.0
     # a static coupled case (scenes/hydrostatic_plate.py): the water's velocities relax at this rate (1/s)
     fluid_damping_rate: float = 0.0
+    # wall particles that hold the water while it settles before t = 0 (fluid.settle_time) and are gone from
+    # t = 0: a dam break's gate, a plug in the gap under a gate; None where the tank alone holds the water
+    release_walls: WallState | None = None
 
 
 def clamp_mirror_across(pos, movable, axis, face, spacing):
@@ -66,7 +69,8 @@ def check_layout(built, spacing):
     from ..numerics.neighbours import NeighbourList
     from ..schema import SceneError
     bodies = [(name, state.pos) for name, state in (("solid", built.solid), ("fluid", built.fluid),
-                                                    ("wall", built.walls)) if state is not None and len(state.pos)]
+                                                    ("wall", built.walls), ("release wall", built.release_walls))
+              if state is not None and len(state.pos)]
     if not bodies:
         raise SceneError("the scene has no particles; allowed: at least one body (check the geometry.* keys)")
     pos = np.concatenate([p for _, p in bodies])

@@ -146,7 +146,10 @@ def build(values):
     walls = tank.tank_walls(inside, ny, nw, layers, dp, True)
     walls[:, 0] -= nd * dp
     # the clamp may reach above the walls; wall sites never coincide with gate sites (walls are outside x range)
-    pos_all = [gate, water, walls]
+    # a plug on the gate's dry side holds the water while it settles (fluid.settle_time), gone at t = 0: it closes
+    # the gap and rises `layers` more along the gate's face, or the water squeezes out past the gate's corner
+    plug = tank.lattice(min(layers, nd), ny, ng + layers, dp, offset=(-min(layers, nd) * dp, 0.0, 0.0))
+    pos_all = [gate, water, walls, plug]
     if values["geometry.mirror"]:
         for p in pos_all:
             p[:, 0] *= -1.0
@@ -164,8 +167,10 @@ def build(values):
     lo = np.array([xlo, 0.0, -layers * dp - margin])
     hi = np.array([xhi, span, top + margin])
     period = np.array([0.0, span, 0.0])
+    release = WallState.lattice(plug, rho0, dp, mass_scale=scale) if ng > 0 else None
     return Built(solid=solid, fluid=fluid, walls=wall_state, probes=probes, domain_lo=lo, domain_hi=hi,
-                 period=period, clamp_mirror=clamp_mirror_across(gate, movable, 2, (ng + nl) * dp, dp))
+                 period=period, clamp_mirror=clamp_mirror_across(gate, movable, 2, (ng + nl) * dp, dp),
+                 release_walls=release)
 
 
 def effective_geometry(values):

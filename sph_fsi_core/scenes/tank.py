@@ -119,7 +119,9 @@ def outside_tank(pos, length, span, periodic_y, spacing):
 
 def column_in_tank(values, nx, nz, ntank, margin):
     """A scene's Built: water on nx x ny x nz sites at the tank's upstream end (x from 0), in a tank ntank sites long
-    with the walls the values ask for (layers, height, periodic or closed across), and a domain `margin` beyond."""
+    with the walls the values ask for (layers, height, periodic or closed across), and a domain `margin` beyond.
+    A column shorter than the tank gets a gate to settle behind (Built.release_walls): `wall_layers` thick (as many
+    as fit before the far wall) at its front face, as high as the walls."""
     from ..state import FluidState, WallState
     from .built import Built
     dp = values["numerics.spacing"]
@@ -132,4 +134,8 @@ def column_in_tank(values, nx, nz, ntank, margin):
     fluid = FluidState.at_rest(lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
     walls = WallState.lattice(tank_walls(ntank, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
     period, lo, hi = period_and_box(ntank, ny, dp, layers, nz_wall * dp, periodic, margin=margin)
-    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period)
+    gate = None
+    if ntank > nx:
+        gate = WallState.lattice(lattice(min(layers, ntank - nx), ny, nz_wall, dp, offset=(nx * dp, 0.0, 0.0)), rho0,
+                                 dp, mass_scale=scale)
+    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period, release_walls=gate)
