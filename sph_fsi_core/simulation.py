@@ -120,11 +120,17 @@ class Simulation:
         self.settled = None    # what the settling phase did (fluid.settle_time > 0), for the summary
         if self.fluid is not None:
             settle_time = v["fluid.settle_time"]
-            held = built.release_walls if settle_time > 0.0 else None
-            self._start_fluid(built, held)
+            release = built.release_walls
+            lifted = release is not None and built.release_velocity is not None
+            self._start_fluid(built, release if settle_time > 0.0 or lifted else None)
             if settle_time > 0.0:
                 self.settled = self._settle_water(settle_time)
-                self._start_fluid(built, None)   # the release: the plates are gone, the solid is free
+                if not lifted:
+                    self._start_fluid(built, None)   # the release: the plates are gone, the solid is free
+            # a gate lifted from t = 0 (_lift_gate): its rows in the fluid's wall array, where it started, how
+            self._lift = ((self.walls.count if self.walls is not None else 0, release.pos.copy(),
+                           np.asarray(built.release_velocity, dtype=np.float64), built.release_travel)
+                          if lifted else None)
             self._fluid_initial_positions = self.fluid.pos.copy()
             self.fluid_lost = np.zeros(self.fluid.count, dtype=np.bool_)   # left the domain: held still
             self._fluid_lost_at = np.zeros((self.fluid.count, 3))
@@ -507,6 +513,21 @@ class Simulation:
             return forced
         return limit
 
+    def _lift_gate(self, t):
+        """The scene's gate lifted from t = 0 (Built.release_velocity, e.g. Lobovsky et al.'s 4.53 m/s): its wall
+        particles where they are at the end of the step about to be taken, until they have travelled
+        Built.release_travel (then they stay there, clear of the water). The lists are remade when it has moved
+        half a skin (they compare wall positions to the bit)."""
+        offset, start, velocity, travel = self._lift
+        speed = float(np.sqrt(velocity @ velocity))
+        moved = min(t * speed, travel)
+        walls = self.fluid_solver.wall_pos
+        walls[offset:offset + len(start)] = start + velocity * (moved / speed)
+        if self.coupling is None and self.fluid_solver.wall_neighbours.is_stale(self.fluid.pos, walls):
+            self.fluid_solver.rebuild()
+        if moved >= travel:
+            self._lift = None
+
     def _advance_fluid(self, duration):
         """Whole fluid steps covering `duration`; per-interval statistics for sample()."""
         solver = self.fluid_solver
@@ -519,6 +540,8 @@ class Simulation:
             dt = remaining / n
             if dt < self.spec["fluid.min_time_step"]:
                 self.watchdog.fluid_step_collapsed(dt)
+            if self._lift is not None:
+                self._lift_gate(self.time + done + dt)
             if self.coupling is not None:
                 self.coupling.before_fluid_step(solver)
             report = solver.step(dt)

@@ -13,10 +13,11 @@ Builder module interface:
     sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure
 """
 from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
-               dam_break, elastic_gate, hydrostatic, hydrostatic_plate)
+               dam_break, elastic_gate, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
 
 BUILDERS = {"cantilever": cantilever, "clamped_plate": clamped_plate, "hydrostatic": hydrostatic,
             "dam_break": dam_break, "elastic_gate": elastic_gate, "antoci_gate": antoci_gate,
             "hydrostatic_plate": hydrostatic_plate, "antoci_gate_static": antoci_gate_static,
-            "antoci_gate_loaded": antoci_gate_loaded, "cantilever_loaded": cantilever_loaded}
+            "antoci_gate_loaded": antoci_gate_loaded, "cantilever_loaded": cantilever_loaded,
+            "lobovsky_dam_break": lobovsky_dam_break}
 DEFAULT_SCENE = "cantilever"

@@ -28,6 +28,9 @@ class Built:
     # wall particles that hold the water while it settles before t = 0 (fluid.settle_time) and are gone from
     # t = 0: a dam break's gate, a plug in the gap under a gate; None where the tank alone holds the water
     release_walls: WallState | None = None
+    # or, with a velocity (m/s), a gate lifted from t = 0 at that velocity until it has moved release_travel (m)
+    release_velocity: np.ndarray | None = None
+    release_travel: float = 0.0
 
 
 def clamp_mirror_across(pos, movable, axis, face, spacing):

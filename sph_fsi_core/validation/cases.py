@@ -111,6 +111,21 @@ def _fluid_rungs():
         rungs.append(Rung("dam_break", f"a_over_dp_{ratio}", "dam_break", {"numerics.spacing": a / ratio},
                           end_time=0.17, quick=quick, bound=0.15,
                           note=f"dp = {a / ratio * 1e3:.3f} mm; front vs Martin & Moyce, RMS over T <= 3"))
+    # Lobovsky et al. 2014's 600 mm column (issue 27): both releases at H / dp = 30, 60, 90, and the settled start
+    # (fluid.settle_time: the water at hydrostatic pressure behind its gate) at 60; RMS of Z over T >= 1.
+    height = 0.6
+    for ratio, quick in ((30, True), (60, False), (90, False)):
+        for release in ("instant", "lifted"):
+            rungs.append(Rung("lobovsky_dam_break", f"{release}_H_over_dp_{ratio}", "lobovsky_dam_break",
+                              {"numerics.spacing": height / ratio, "geometry.release": release}, end_time=0.4,
+                              quick=quick, bound=0.05,
+                              note=f"dp = {height / ratio * 1e3:.3g} mm, gate {release}; front vs Lobovsky et al. "
+                                   f"2014, RMS over T >= 1"))
+    for release in ("instant", "lifted"):
+        rungs.append(Rung("lobovsky_dam_break", f"{release}_settled_H_over_dp_60", "lobovsky_dam_break",
+                          {"numerics.spacing": height / 60, "geometry.release": release, "fluid.settle_time": 0.3},
+                          end_time=0.4, note=f"dp = 10 mm, gate {release}, the water settled behind it for 0.3 s "
+                                             f"(fluid.settle_time); front vs Lobovsky et al. 2014"))
     return rungs
 
 

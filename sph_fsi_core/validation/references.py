@@ -228,3 +228,12 @@ def elastica_tip(alpha, steps=2000, distributed=False):
             lo = mid
     theta, _, sin_integral, cos_integral = _elastica_shoot(alpha, 0.5 * (lo + hi), steps, distributed)
     return {"deflection": sin_integral, "pull_back": 1.0 - cos_integral, "rotation": theta}
+
+
+def lobovsky_front():
+    """(T, Z) of Lobovsky et al. 2014, Fig. 12, H = L = 600 mm (reference_data/lobovsky2014_front_H600.csv): the
+    surge front Z = 1 + x / H, x from the gate, against T = t sqrt(g / H), t from the gate's first motion (lifted
+    at a median 4.53 m/s). The last three points sit at the far wall (Z = 2.683)."""
+    import numpy as np
+    rows = read_reference_csv("lobovsky2014_front_H600.csv")
+    return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])

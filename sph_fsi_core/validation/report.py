@@ -254,13 +254,19 @@ def _fluid_extra(rungs, summaries):
     lines = []
     for r in rungs:
         s = summaries.get(r.key)
-        if s is None or r.case not in ("hydrostatic", "dam_break") or not s.get("fluid_steps"):
+        if s is None or r.case not in ("hydrostatic", "dam_break", "lobovsky_dam_break") or not s.get("fluid_steps"):
             continue
         if r.case == "hydrostatic":
             detail = (f"floor p (fit) {_fmt(100 * s['floor_pressure_error'], '+.2f')} %, bottom layer "
                       f"{_fmt(100 * s['bottom_layer_error'], '+.2f')} %, floor load {_fmt(100 * s['floor_load_error'], '+.2f')} %, "
                       f"profile RMS {_fmt(100 * s['pressure_profile_rms_over_rho_g_h'], '.2f')} %, "
                       f"outside walls {s['max_particles_outside_walls']}, mass change {s['mass_change_kg']:g} kg")
+        elif r.case == "lobovsky_dam_break":
+            detail = (f"RMS over T >= 1 {_fmt(100 * s['front_rms_relative_error'], '.2f')} %; best delay dT = "
+                      f"{_fmt(s['front_time_shift_T'], '.3f')} leaves {_fmt(100 * s['front_rms_after_time_shift'], '.2f')} %; "
+                      f"speed dZ/dT on T in [1, 1.6] {_fmt(s['front_speed_dZdT'], '.3f')} (experiment "
+                      f"{_fmt(s['front_speed_dZdT_experiment'], '.3f')}, {_fmt(100 * s['front_speed_error'], '+.1f')} %); "
+                      f"outside walls {s['max_particles_outside_walls']}")
         else:
             pts = ", ".join(f"T={p['T']:.2f}: {100 * p['relative_error']:+.1f} %" for p in s["front_points"])
             detail = (f"{pts}; RMS {100 * s['front_rms_relative_error']:.1f} %; best delay dT = "
@@ -310,6 +316,33 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
         fig.savefig(Path(out_dir) / "dam_break_front.png", dpi=120)
         plt.close(fig)
         made.append("dam_break_front.png")
+    runs = [r for r in rungs if r.case == "lobovsky_dam_break" and r.key in summaries]
+    if runs:
+        fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
+        ref = read_reference_csv("lobovsky2014_front_H600.csv")
+        for a in (a1, a2):
+            a.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", ms=3,
+                   label="Lobovsky et al. 2014 (gate lifted at 4.53 m/s)")
+        for r in runs:
+            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
+            if not path.is_file():
+                continue
+            rows = list(csv.DictReader(path.open()))
+            axis = a1 if r.overrides.get("geometry.release") == "instant" else a2
+            axis.plot([float(x["T"]) for x in rows], [float(x["front_Z"]) for x in rows],
+                      "--" if "settled" in r.label else "-", label=r.label)
+        for a, title in ((a1, "gate gone at t = 0"), (a2, "gate lifted at 4.53 m/s from t = 0")):
+            a.set_xlim(0, 1.7)
+            a.set_ylim(0.95, 2.8)
+            a.set_xlabel("T = t sqrt(g / H)")
+            a.set_ylabel("Z = 1 + x / H")
+            a.set_title(f"Lobovsky dam break, H = 600 mm: {title}")
+            a.grid(True, alpha=0.3)
+            a.legend(fontsize=7)
+        fig.tight_layout()
+        fig.savefig(Path(out_dir) / "lobovsky_front.png", dpi=120)
+        plt.close(fig)
+        made.append("lobovsky_front.png")
     runs = [r for r in rungs if r.case == "hydrostatic" and r.key in summaries]
     if runs:
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.5, 6), sharex=True)

@@ -1,0 +1,53 @@
+"""The Lobovsky et al. 2014 scene: its release options (the gate gone at t = 0, or lifted at the measured speed)
+and its judgement against the experiment's front (reference_data/lobovsky2014_front_H600.csv)."""
+import numpy as np
+import pytest
+
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.scenes import lobovsky_dam_break as lob
+from sph_fsi_core.simulation import Simulation
+from sph_fsi_core.validation.references import lobovsky_front
+
+COARSE = ["numerics.spacing=0.04"]     # H / 15: a quick build
+
+
+def test_the_lifted_gate_moves_at_its_speed_and_stops_clear_of_the_water():
+    spec = load_scene("lobovsky_dam_break", COARSE + ["geometry.release=lifted", "output.timeseries_interval=0.01"])
+    sim = Simulation(spec)
+    walls = sim.walls.count
+    gate0 = sim.fluid_solver.wall_pos[walls:].copy()
+    assert len(gate0) == 3 * 6 * 18                               # 3 layers, 6 across, 0.7 m high
+    assert np.allclose(gate0[:, 0].min(), 15 * 0.04 + 0.02)                  # at the column's face
+    sim.step()
+    lifted = sim.fluid_solver.wall_pos[walls:] - gate0
+    assert np.allclose(lifted[:, :2], 0.0) and np.allclose(lifted[:, 2], 4.53 * 0.01)   # the last step's end
+    travel = lob.lift_travel(spec.values)
+    assert travel == pytest.approx(0.6 + 2 * 1.3 * 0.04)
+    while sim.time < 0.2 - 1e-12:
+        sim.step()
+    assert np.allclose(sim.fluid_solver.wall_pos[walls:, 2] - gate0[:, 2], travel)    # parked, clear of the water
+    assert sim.fluid_solver.wall_pos[walls:, 2].max() < sim.domain_hi[2]               # inside the lists' box
+    assert sim.sample()["outside_walls"] == 0
+
+
+def test_the_instant_release_has_no_gate_and_the_front_starts_at_the_gate():
+    sim = Simulation(load_scene("lobovsky_dam_break", COARSE))
+    assert sim.fluid_solver.walls.count == sim.walls.count
+    s = sim.sample()
+    assert s["front_x"] == 0.0 and s["front_Z"] == 1.0 and s["T"] == 0.0
+
+
+def test_evaluate_against_the_experiment_itself():
+    """Fed the experiment's own curve the judgement is exact: zero error, zero shift, its own speed (1.339, the
+    paper's 1.34); a curve shifted by dT = 0.1 is found shifted by 0.1 and fits to rounding after it."""
+    t, z = lobovsky_front()
+    own = lob.evaluate({"T": t, "front_Z": z, "outside_walls": np.zeros(len(t))}, {"geometry.release": "lifted"})
+    assert own["front_rms_relative_error"] == 0.0 and own["front_time_shift_T"] == 0.0
+    assert own["front_speed_dZdT"] == pytest.approx(own["front_speed_dZdT_experiment"])
+    assert own["front_speed_dZdT_experiment"] == pytest.approx(1.339, abs=0.001)
+    judged = [p["T"] for p in own["front_points"]]
+    assert min(judged) >= 1.0 and len(judged) == int(((t >= 1.0) & (np.arange(len(t)) < len(t) - 3)).sum())
+    early = lob.evaluate({"T": t - 0.1, "front_Z": z, "outside_walls": np.zeros(len(t))},
+                         {"geometry.release": "instant"})
+    assert early["front_time_shift_T"] == pytest.approx(0.1, abs=0.002)
+    assert early["front_rms_relative_error"] > 0.03 and early["front_rms_after_time_shift"] < 0.005
