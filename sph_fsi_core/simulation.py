@@ -38,6 +38,8 @@ QUADRATIC_FIT_TESTED_CFL = 0.35
 # the settling phase's velocity relaxation, rate = SETTLE_RELAXATION / fluid.settle_time: a velocity's memory falls
 # to e^-10 over the phase, and the column still sinks into its compression (at g / rate, 0.1 m/s for 0.1 s)
 SETTLE_RELAXATION = 10.0
+# and its step, in units of h / c_b (_settle_water): about 2 correction iterations per step at 2
+SETTLE_STEP_IN_H = 2.0
 
 
 class Simulation:
@@ -171,11 +173,19 @@ class Simulation:
         duration; then velocities are set to zero and the clock starts. Returns what the phase did."""
         solver = self.fluid_solver
         rate = SETTLE_RELAXATION / duration
+        # The correction's work per step grows as dt^2 and the steps as 1 / dt (docs/method.md, fluid, "Time
+        # step"): at rest the total falls with dt down to a few iterations per step, at dt ~ h / c_b with c_b =
+        # sqrt(|g| H / tolerance) the column's breathing speed (scenes/tank.py). The phase steps there.
+        height = float(np.ptp(self.fluid.pos[:, 2])) + self.spacing if self.fluid.count else 0.0
+        gravity = float(np.sqrt(np.dot(self.spec["scene.gravity"], self.spec["scene.gravity"])))
+        breathing = math.sqrt(gravity * height / self.spec["fluid.density_tolerance"])
+        step_limit = SETTLE_STEP_IN_H * self.h / breathing if breathing > 0.0 else math.inf
         wall0 = _time.perf_counter()
         done, steps, iterations, capped = 0.0, 0, 0, 0
         while duration - done > 1e-12 * duration:
             remaining = duration - done
-            n = max(1, math.ceil(remaining / self._fluid_dt(-remaining) * (1.0 - 1e-12)))
+            dt_max = min(self._fluid_dt(-remaining), step_limit)
+            n = max(1, math.ceil(remaining / dt_max * (1.0 - 1e-12)))
             dt = remaining / n
             if self.coupling is not None:
                 self.coupling.before_fluid_step(solver)

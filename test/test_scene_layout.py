@@ -53,13 +53,14 @@ def test_bad_scene_input_is_refused_before_the_first_step(scene, overrides, word
 
 @pytest.mark.parametrize("scene", sorted(BUILDERS))
 def test_every_builtin_scene_is_one_lattice_inside_its_domain(scene):
-    """Every particle of every body has its nearest neighbour (of any body) exactly one spacing away, lies inside
-    the domain box, and a periodic axis closes the lattice: each body spans the period less one spacing. The
+    """Every particle of every body (the release plates too) has its nearest neighbour (of any body) exactly one
+    spacing away, lies inside the domain box, and a periodic axis closes the lattice: each body spans the period less one spacing. The
     layout check passes."""
     spec = load_scene(scene)
     dp = spec["numerics.spacing"]
     built = BUILDERS[scene].build(spec.values)
-    bodies = [s.pos for s in (built.solid, built.fluid, built.walls) if s is not None and len(s.pos)]
+    bodies = [s.pos for s in (built.solid, built.fluid, built.walls, built.release_walls)
+              if s is not None and len(s.pos)]
     pos = np.concatenate(bodies)
     assert len(pos) > 1000
     nearest, _ = cKDTree(pos).query(pos, k=2)
