@@ -236,6 +236,12 @@ def _print_summary(s, out):
     print(f"particles: {sum(counts.values()):,} ({', '.join(f'{k} {v:,}' for k, v in counts.items())})  "
           f"{'  '.join(steps)}  wall time: {s['wall_time_s']:.1f} s  "
           f"particle-steps/s: {s['particle_steps_per_second'] or 0:,.0f}")
+    if s.get("settling"):
+        st = s["settling"]
+        print(f"settled: {st['settle_time_s']:g} s of water at rest before t = 0 in {st['wall_time_s']:.1f} s "
+              f"({st['fluid_steps']} steps, {st['iterations_mean']:.1f} iterations per step, {st['capped_steps']} "
+              f"capped; max compression {100 * st['density_error_max']:.2f} %, speed left "
+              f"{st['residual_max_speed_m_s']:.3g} m/s)")
     if s.get("error") is not None and s.get("frequency_hz") is None:
         print(f"error: {100 * s['error']:.2f} % ({s.get('error_metric', 'against the scene reference')})")
     for warning in s.get("warnings", [])[:5]:

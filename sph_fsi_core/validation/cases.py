@@ -199,6 +199,17 @@ def _gate_default_rungs():
     rungs.append(Rung("gate_default", "antoci_gate_E10MPa_nu0.49_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, "solid.young_modulus": 1.0e7, "solid.poisson_ratio": 0.49},
                       end_time=0.4, note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 5/3 mm"))
+    # the water settled at rest behind the gate (held straight, a plug in the gap) before t = 0 (fluid.settle_time;
+    # the verification issue's item 7), and the paper's gate with the 0.1 % tolerance as well
+    rungs += [Rung("gate_default", "elastic_gate_settled_dp1mm", "elastic_gate",
+                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1}, end_time=0.14,
+                   note="the paper's gate at 1 mm, the water settled 0.1 s behind it"),
+              Rung("gate_default", "elastic_gate_settled_tolerance0.1pct_dp1mm", "elastic_gate",
+                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, "fluid.density_tolerance": 0.001},
+                   end_time=0.14, note="the paper's gate at 1 mm, settled, density tolerance 0.1 %"),
+              Rung("gate_default", "antoci_gate_settled_dp1.67mm", "antoci_gate",
+                   {"numerics.spacing": 0.005 / 3, "fluid.settle_time": 0.2}, end_time=0.4,
+                   note="Antoci's gate at dp = 5/3 mm, the water settled 0.2 s behind it")]
     return rungs
 
 
