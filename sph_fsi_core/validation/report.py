@@ -437,6 +437,8 @@ def _gate_plots(out_dir, rungs, summaries, plt):
                 y = np.array([float(x[col]) for x in rows])
                 ax.plot(t, y * 1e3, "-" if "pressure" in r.label else "--", color=f"C{i}", label=r.label)
                 settings = summaries[r.key]["settings"]
+                if settings.get("fluid.settle_time", 0.0) > 0.0:
+                    continue                       # the band is the materials' only, from the paper's start
                 by_spacing.setdefault(round(settings["numerics.spacing"], 9), []).append(
                     (settings["solid.young_modulus"], settings["solid.poisson_ratio"], t, y))
             for dp, curves in by_spacing.items():   # the published materials at one spacing: a band
