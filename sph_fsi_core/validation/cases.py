@@ -125,6 +125,11 @@ def _fluid_rungs():
                                   note=f"dp = {height / ratio * 1e3:.3g} mm, gate {release}, "
                                        f"{'settled 0.3 s' if settle else 'from zero pressure'}; front vs Lobovsky "
                                        f"et al. 2014, RMS over T >= 1"))
+    # the experiment's tank in 3D at the coarse spacing: 600 mm wide (30 layers), closed by free-slip side walls
+    rungs.append(Rung("lobovsky_dam_break", "lifted_settled_3d_H_over_dp_30", "lobovsky_dam_break",
+                      {"numerics.spacing": height / 30, "geometry.release": "lifted", "fluid.settle_time": 0.3,
+                       "geometry.periodic_y": False, "geometry.span_layers": 30}, end_time=0.4,
+                      note="dp = 20 mm, the 600 mm wide tank in 3D with side walls, gate lifted, settled 0.3 s"))
     return rungs
 
 
