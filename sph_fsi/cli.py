@@ -149,6 +149,9 @@ def _cmd_run(args):
     print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) "
           + (f"from its checkpoint at t = {restart['sim'].time:.6g} s " if restart else "")
           + f"to t = {spec['scene.end_time']:g} s into {out}/", file=sys.stderr)
+    if not restart and "fluid" in spec.phases and spec["fluid.settle_time"] > 0.0:
+        print(f"sph-fsi: the water first settles at rest for fluid.settle_time = {spec['fluid.settle_time']:g} s "
+              f"before t = 0", file=sys.stderr)
     state = {"rec": None, "sim": None, "stats": None, "samples": 0}
     started = time.perf_counter()
     cold = kernels_cached(spec.phases) is False

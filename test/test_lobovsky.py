@@ -51,3 +51,13 @@ def test_evaluate_against_the_experiment_itself():
                          {"geometry.release": "instant"})
     assert early["front_time_shift_T"] == pytest.approx(0.1, abs=0.002)
     assert early["front_rms_relative_error"] > 0.03 and early["front_rms_after_time_shift"] < 0.005
+
+
+def test_the_command_line_says_the_water_settles_and_what_the_settling_did(capsys, tmp_path):
+    from sph_fsi.cli import main
+    assert main(["run", "lobovsky_dam_break", "--set", "numerics.spacing=0.04", "--end-time", "0.02",
+                 "--out", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert "the water first settles at rest for fluid.settle_time = 0.3 s before t = 0" in err
+    settled = [line for line in out.splitlines() if line.startswith("settled: 0.3 s of water at rest")]
+    assert len(settled) == 1 and "0 capped" in settled[0], out
