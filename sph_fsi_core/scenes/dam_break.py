@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from ..validation.references import martin_moyce_front
-from ..schema import Param, SceneError
+from ..schema import Param
 from . import tank
 from .hydrostatic import check_walls_and_span
 
@@ -42,34 +42,18 @@ DEFAULTS = {"scene.end_time": 0.17, "scene.gravity": (0.0, 0.0, -9.81), "numeric
 
 
 def check(values):
-    dp = values["numerics.spacing"]
-    nx = tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width", at_least=2)
-    tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height", at_least=2)
-    if values["geometry.tank_length"] < nx * dp + 2 * dp:
-        raise SceneError(f"geometry.tank_length = {values['geometry.tank_length']:g} m: not longer than the column; "
-                         f"allowed: at least {(nx + 2) * dp:g} m")
-    if values["geometry.wall_height"] < values["geometry.column_height"]:
-        raise SceneError(f"geometry.wall_height = {values['geometry.wall_height']:g} m: below the column; allowed: "
-                         f"at least geometry.column_height")
+    tank.check_column_in_tank(values)
     check_walls_and_span(values)
-
-
-def _sites(values):
-    """(nx, nz, ntank): the column's sites along x and z and the tank's inside along x."""
-    dp = values["numerics.spacing"]
-    return (tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width"),
-            tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height"),
-            int(round(values["geometry.tank_length"] / dp)))
 
 
 def particle_counts(values):
     """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    return tank.column_in_tank_counts(values, *_sites(values))
+    return tank.column_in_tank_counts(values, *tank.column_sites(values))
 
 
 def build(values):
     dp = values["numerics.spacing"]
-    nx, nz, ntank = _sites(values)
+    nx, nz, ntank = tank.column_sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
     return tank.column_in_tank(values, nx, nz, ntank, margin=wall_top)
 

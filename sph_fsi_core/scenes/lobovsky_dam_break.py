@@ -23,7 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..schema import Param, SceneError
+from ..schema import Param
 from ..validation.references import lobovsky_front
 from . import tank
 from .dam_break import front_position
@@ -63,40 +63,24 @@ DEFAULTS = {"scene.end_time": 0.4, "scene.gravity": (0.0, 0.0, -9.81), "numerics
             "fluid.settle_time": 0.3, "output.timeseries_interval": 2.5e-3, "output.snapshot_interval": 0.02}
 
 
-def _sites(values):
-    """(nx, nz, ntank): the column's sites along x and z and the tank's inside along x."""
-    dp = values["numerics.spacing"]
-    return (tank.whole_layers(values["geometry.column_width"], dp, "geometry.column_width", at_least=2),
-            tank.whole_layers(values["geometry.column_height"], dp, "geometry.column_height", at_least=2),
-            int(round(values["geometry.tank_length"] / dp)))
-
-
 def check(values):
-    dp = values["numerics.spacing"]
-    nx, _, ntank = _sites(values)
-    gate = values["geometry.wall_layers"]
-    if ntank < nx + gate + 2:
-        raise SceneError(f"geometry.tank_length = {values['geometry.tank_length']:g} m: no room beyond the column "
-                         f"and its gate; allowed: at least {(nx + gate + 2) * dp:g} m")
-    if values["geometry.wall_height"] < values["geometry.column_height"]:
-        raise SceneError(f"geometry.wall_height = {values['geometry.wall_height']:g} m: below the column; allowed: "
-                         f"at least geometry.column_height")
+    tank.check_column_in_tank(values, gate_layers=values["geometry.wall_layers"])
     check_walls_and_span(values)
 
 
 def particle_counts(values):
-    return tank.column_in_tank_counts(values, *_sites(values))
+    return tank.column_in_tank_counts(values, *tank.column_sites(values))
 
 
 def lift_travel(values):
     """How far the lifted gate moves: its foot a column height plus 2h (the kernel's reach) above the floor, m."""
     dp = values["numerics.spacing"]
-    return _sites(values)[1] * dp + 2.0 * values["numerics.smoothing_ratio"] * dp
+    return tank.column_sites(values)[1] * dp + 2.0 * values["numerics.smoothing_ratio"] * dp
 
 
 def build(values):
     dp = values["numerics.spacing"]
-    nx, nz, ntank = _sites(values)
+    nx, nz, ntank = tank.column_sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
     if values["geometry.release"] == "instant":
         return tank.column_in_tank(values, nx, nz, ntank, margin=wall_top)
@@ -111,7 +95,7 @@ def sample_fluid(sim):
     outside the tank."""
     v = sim.spec.values
     dp = v["numerics.spacing"]
-    nx, nz, ntank = _sites(v)
+    nx, nz, ntank = tank.column_sites(v)
     height = nz * dp
     g = abs(v["scene.gravity"][2])
     x = front_position(sim.fluid.pos, dp) - nx * dp

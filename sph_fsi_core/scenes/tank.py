@@ -82,6 +82,31 @@ def tank_wall_count(nx, ny, nz_wall, layers, periodic_y):
     return (nx + 2 * layers) * (ny + 2 * pad_y) * (nz_wall + layers) - nx * ny * nz_wall
 
 
+def column_sites(values):
+    """(nx, nz, ntank) of a column-in-tank scene: the column's sites along x and z (whole spacings, at least 2 each)
+    and the tank's inside along x (geometry.tank_length rounded to whole spacings)."""
+    dp = values["numerics.spacing"]
+    return (whole_layers(values["geometry.column_width"], dp, "geometry.column_width", at_least=2),
+            whole_layers(values["geometry.column_height"], dp, "geometry.column_height", at_least=2),
+            int(round(values["geometry.tank_length"] / dp)))
+
+
+def check_column_in_tank(values, gate_layers=0):
+    """SceneError unless the tank is longer than the column by its gate's `gate_layers` and two more sites, and its
+    walls reach the column's top."""
+    from ..schema import SceneError
+    dp = values["numerics.spacing"]
+    nx = column_sites(values)[0]
+    room = nx + gate_layers + 2
+    if values["geometry.tank_length"] < room * dp:
+        beyond = "the column and its gate" if gate_layers else "the column"
+        raise SceneError(f"geometry.tank_length = {values['geometry.tank_length']:g} m: not longer than {beyond}; "
+                         f"allowed: at least {room * dp:g} m")
+    if values["geometry.wall_height"] < values["geometry.column_height"]:
+        raise SceneError(f"geometry.wall_height = {values['geometry.wall_height']:g} m: below the column; allowed: "
+                         f"at least geometry.column_height")
+
+
 def column_in_tank_counts(values, nx, nz, ntank):
     """column_in_tank's particle counts per phase, without making them."""
     dp = values["numerics.spacing"]

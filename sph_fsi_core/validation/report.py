@@ -10,6 +10,15 @@ from .references import read_reference_csv
 from .cases import CANTILEVER_CASES
 
 
+def _series_rows(out_dir, rung):
+    """A rung's timeseries.csv as a list of rows (dicts of strings), None if it was not run."""
+    path = Path(out_dir) / "runs" / rung.case / rung.label / "timeseries.csv"
+    if not path.is_file():
+        return None
+    with path.open() as fh:
+        return list(csv.DictReader(fh))
+
+
 def _fmt(x, spec=".3g"):
     if x is None or (isinstance(x, float) and not math.isfinite(x)):
         return "-"
@@ -295,10 +304,9 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
         ref = read_reference_csv("martin_moyce_1952_a57mm.csv")
         a1.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", label="Martin & Moyce 1952")
         for r in runs:
-            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
-            if not path.is_file():
+            rows = _series_rows(out_dir, r)
+            if rows is None:
                 continue
-            rows = list(csv.DictReader(path.open()))
             t = np.array([float(x["T"]) for x in rows])
             a1.plot(t, [float(x["front_Z"]) for x in rows], label=r.label)
             a2.plot([float(x["time"]) for x in rows], [float(x["iterations_mean"]) for x in rows], label=r.label)
@@ -324,10 +332,9 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
             a.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", ms=3,
                    label="Lobovsky et al. 2014 (gate lifted at 4.53 m/s)")
         for r in runs:
-            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
-            if not path.is_file():
+            rows = _series_rows(out_dir, r)
+            if rows is None:
                 continue
-            rows = list(csv.DictReader(path.open()))
             axis = a1 if r.overrides.get("geometry.release") == "instant" else a2
             axis.plot([float(x["T"]) for x in rows], [float(x["front_Z"]) for x in rows],
                       "--" if "settled" in r.label else "-", label=r.label)
@@ -347,10 +354,9 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
     if runs:
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.5, 6), sharex=True)
         for r in runs:
-            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
-            if not path.is_file():
+            rows = _series_rows(out_dir, r)
+            if rows is None:
                 continue
-            rows = list(csv.DictReader(path.open()))
             t = [float(x["time"]) for x in rows]
             ref = summaries[r.key]["reference_floor_pressure_pa"]
             a1.plot(t, [float(x["floor_pressure"]) / ref for x in rows], label=r.label)
@@ -429,10 +435,9 @@ def _gate_plots(out_dir, rungs, summaries, plt):
             ax.plot(te, ye * 1e3, "ko", label="Antoci et al. 2007 (experiment)")
             by_spacing = {}
             for i, r in enumerate(runs):
-                path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
-                if not path.is_file():
+                rows = _series_rows(out_dir, r)
+                if rows is None:
                     continue
-                rows = list(csv.DictReader(path.open()))
                 t = np.array([float(x["time"]) for x in rows])
                 y = np.array([float(x[col]) for x in rows])
                 ax.plot(t, y * 1e3, "-" if "pressure" in r.label else "--", color=f"C{i}", label=r.label)
@@ -462,10 +467,9 @@ def _gate_plots(out_dir, rungs, summaries, plt):
     if runs:
         fig, axes = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
         for i, r in enumerate(runs):
-            path = Path(out_dir) / "runs" / r.case / r.label / "timeseries.csv"
-            if not path.is_file():
+            rows = _series_rows(out_dir, r)
+            if rows is None:
                 continue
-            rows = list(csv.DictReader(path.open()))
             t = np.array([float(x["time"]) for x in rows])
             axes[0].plot(t, [1e3 * float(x["tip_dx"]) for x in rows], "-", color=f"C{i}", label=f"{r.label} x")
             axes[0].plot(t, [1e3 * float(x["tip_dz"]) for x in rows], ":", color=f"C{i}", label=f"{r.label} z")
@@ -580,9 +584,8 @@ def _plots(out_dir, rungs, summaries):
     # The long run's free-end motion and energy, like the paper's Fig. 4.
     long_run = [r for r in rungs if r.case == "cantilever" and r.key in summaries]
     if long_run:
-        path = Path(out_dir) / "runs" / long_run[0].case / long_run[0].label / "timeseries.csv"
-        if path.is_file():
-            rows = list(csv.DictReader(path.open()))
+        rows = _series_rows(out_dir, long_run[0])
+        if rows is not None:
             t = np.array([float(r["time"]) for r in rows])
             z = np.array([float(r["tip_dz"]) for r in rows])
             e = np.array([float(r["kinetic_energy"]) + float(r["strain_energy"]) for r in rows])
