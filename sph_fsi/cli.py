@@ -232,6 +232,8 @@ def _print_summary(s, out):
     steps = []
     if s.get("solid_steps"):
         steps.append(f"solid steps: {s['solid_steps']}")
+        if s.get("solid_pressure_solve"):
+            steps[-1] += f" ({s['solid_pressure_solve']['iterations_per_step']:.1f} pressure iterations per step)"
     if s.get("fluid_steps"):
         steps.append(f"fluid steps: {s['fluid_steps']} ({s['fluid_iterations_per_step']:.1f} correction iterations "
                      f"per step)")

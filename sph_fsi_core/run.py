@@ -155,6 +155,8 @@ class RunLog:
             "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
             "fluid_particles_lost": int(sim.fluid_lost.sum()) if sim.fluid is not None else 0,
             **({"settling": sim.settled} if getattr(sim, "settled", None) else {}),
+            **({"solid_pressure_solve": sim.pressure_solve_stats()} if getattr(sim, "pressure_solve_stats", None)
+               and sim.pressure_solve_stats() else {}),
             "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
             "fluid_particle_iterations": fluid_particle_iterations,
             "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s

@@ -150,13 +150,16 @@ SOLID = [
        high=0.5, high_inclusive=False, rebuild=False),
     _p("solid.scheme", DEFAULT_SCHEME, "",
        "The solid's named scheme: one word for a validated combination of solid.velocity_gradient, "
-       "solid.nodal_integration, solid.artificial_stress_epsilon, solid.cfl and solid.clamp; each of those set "
+       "solid.nodal_integration, solid.artificial_stress_epsilon, solid.cfl, solid.clamp, solid.pressure and "
+       "solid.fit_refresh; each "
+       "of those set "
        "explicitly "
        "overrides its scheme's value. "
        + "; ".join(f"'{s.name}' ({expansion_text(s.name)}): {s.summary}" for s in SCHEMES.values())
        + ". Which cases validated each, with which error: docs/method.md, 'Solid schemes'",
        kind="str", choices=tuple(SCHEMES)),
-    _p("solid.cfl", _by_scheme("solid.cfl"), "1", "Solid time step dt = cfl * h / (c0 + |v|max)" + _SET_BY_SCHEME,
+    _p("solid.cfl", _by_scheme("solid.cfl"), "1", "Solid time step dt = cfl * h / (c + |v|max), c the bulk sound "
+       "speed c0 (or with solid.pressure = implicit the deviatoric waves' sqrt(4 G / 3 rho0))" + _SET_BY_SCHEME,
        low=0.0, low_inclusive=False, high=1.0, rebuild=False),
     _p("solid.time_step", 0.0, "s", "Forced solid time step (0: automatic); above the stable limit it is refused",
        low=0.0, high=1.0, rebuild=False),
@@ -177,12 +180,33 @@ SOLID = [
        "1e-4 with solid.nodal_integration = gradient); a stale fit leaks rotation into the fitted curvature and "
        "locks energy in self-balanced stress (docs/method.md, 'Strain-gradient nodal integration')", low=0.0,
        high=1.0, rebuild=False),
+    _p("solid.fit_refresh", _by_scheme("solid.fit_refresh"), "",
+       "Quadratic fit: 'remake' its rows once a neighbourhood has turned or strained by solid.fit_refresh_turn (the "
+       "integral of |L| dt); 'rotate' turn each particle's rows with its own rotation (exact for a rigid turn) every "
+       "solid.fit_refresh_turn of it, and remake them once a neighbourhood's shape has changed by "
+       "solid.fit_refresh_strain (a bending gate mostly turns, and vibrates in place: a tenth of the remakes; "
+       "solid/fit_rotation.py)" + _SET_BY_SCHEME, kind="str", choices=("remake", "rotate")),
+    _p("solid.fit_refresh_strain", 1.0e-3, "1",
+       "solid.fit_refresh = rotate: remake the quadratic fit's rows once some neighbourhood's Green strain since they "
+       "were made passes this (the rows are exact for the shape they were made at, turned)", low=0.0,
+       low_inclusive=False, high=1.0, rebuild=False),
     _p("solid.clamp", _by_scheme("solid.clamp"), "",
        "How the clamp holds the body: 'fixed' clamp particles at rest carrying stress (the paper's; the body bends "
        "as if up to half a spacing longer), 'mirrored' clamp particles moving as the odd mirror image of the body "
        "across the clamp face, so the velocity vanishes on the face itself (small deflections near the clamp "
        "only; docs/method.md)" + _SET_BY_SCHEME, kind="str",
        choices=("fixed", "mirrored")),
+    _p("solid.pressure", _by_scheme("solid.pressure"), "",
+       "How the solid's pressure p = c0^2 (rho - rho0) advances: 'explicit' with the rest of eq. (5) (the step is "
+       "set by the bulk sound speed c0), 'implicit' by backward Euler within each step (conjugate gradients), so the "
+       "step is set by the deviatoric stress's waves, sqrt(4 G / 3 rho0): 6x larger at nu = 0.49 (needs "
+       "solid.velocity_gradient = quadratic; solid/implicit_pressure.py, docs/method.md)" + _SET_BY_SCHEME,
+       kind="str", choices=("explicit", "implicit")),
+    _p("solid.pressure_tolerance", 1.0e-4, "1",
+       "solid.pressure = implicit: the conjugate gradients stop when the residual's 2-norm is this fraction of the "
+       "right-hand side's", low=0.0, low_inclusive=False, high=0.1, rebuild=False),
+    _p("solid.pressure_max_iterations", 200, "1", "solid.pressure = implicit: the cap on its iterations per step",
+       kind="int", low=1, high=100000, rebuild=False),
     _p("solid.artificial_viscosity_alpha", 0.1, "1", "Monaghan artificial viscosity alpha (linear term)", low=0.0,
        high=10.0, rebuild=False),
     _p("solid.artificial_viscosity_beta", 0.0, "1", "Monaghan artificial viscosity beta (quadratic term)",

@@ -22,6 +22,7 @@ from .scenes import BUILDERS
 from .solid.gray2001 import material_constants, strain_energy
 from .solid.gradient_integration import gradient_strain_energy
 from .solid.fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
+from .solid.implicit_pressure import deviatoric_wave_speed
 from .solid.stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params, mirror_clamp_velocities,
                             solid_acceleration, solid_leapfrog)
 from .numerics.jit_cache import start_parallel_runtime
@@ -97,7 +98,9 @@ class Simulation:
             gradient_integration = v["solid.nodal_integration"] == "gradient"
             if gradient_integration:
                 self.solid.stress_gradient = np.zeros((self.solid.count, 3, 6))
-            self.solid_work = SolidWork(self.solid.count, hessian_rows=gradient_integration)
+            self.solid_work = SolidWork(self.solid.count, hessian_rows=gradient_integration,
+                                        implicit_pressure=v["solid.pressure"] == "implicit",
+                                        rotate_fit=v["solid.fit_refresh"] == "rotate")
             self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h,
                                                   v["numerics.neighbour_skin"] * self.h, period=self.period,
                                                   box_lo=built.domain_lo, box_hi=built.domain_hi, half=True)
@@ -229,18 +232,32 @@ class Simulation:
             art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
             skin=v["numerics.neighbour_skin"] * self.h,
             velocity_gradient=v["solid.velocity_gradient"], nodal_integration=v["solid.nodal_integration"],
-            fit_refresh_turn=v["solid.fit_refresh_turn"])
+            fit_refresh_turn=v["solid.fit_refresh_turn"], pressure=v["solid.pressure"],
+            pressure_tolerance=v["solid.pressure_tolerance"],
+            pressure_max_iterations=v["solid.pressure_max_iterations"], fit_refresh=v["solid.fit_refresh"],
+            fit_refresh_strain=v["solid.fit_refresh_strain"])
+        if v["solid.pressure"] == "implicit" and v["solid.velocity_gradient"] != "quadratic":
+            raise SceneError(f"solid.pressure = implicit solves with the quadratic fit's pair weights; "
+                             f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
+                             f"solid.pressure = explicit)")
         if v["solid.nodal_integration"] == "gradient" and v["solid.velocity_gradient"] != "quadratic":
             raise SceneError(f"solid.nodal_integration = gradient needs the quadratic fit's second derivatives; "
                              f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
                              f"solid.nodal_integration = plain)")
         forced = v["solid.time_step"]
-        limit = self._stable_dt(v["solid.cfl"], c0)
+        wave = self._step_wave_speed(v["solid.pressure"], c0, shear, v["solid.density"])
+        limit = self._stable_dt(v["solid.cfl"], wave)
         if forced > limit:
             raise SceneError(f"solid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
-                             f"(solid.cfl * h / (c0 + |v|max) with c0 = {c0:.4g} m/s); "
+                             f"(solid.cfl * h / (c + |v|max) with c = {wave:.4g} m/s); "
                              f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
         return bulk, shear, c0, params
+
+    @staticmethod
+    def _step_wave_speed(pressure, c0, shear, density):
+        """The wave speed that sets the solid's step: c0, or with the implicit pressure the deviatoric stress's
+        fastest wave (solid/implicit_pressure.py)."""
+        return deviatoric_wave_speed(shear, density) if pressure == "implicit" else c0
 
     def _fluid_settings(self, spec):
         """The fluid solver's settings from `spec`; SceneError if a forced fluid.time_step is above the stable limit."""
@@ -278,8 +295,10 @@ class Simulation:
         self._refit_solid()
         self.neighbour_builds += 1
 
-    def _refit_solid(self):
-        """The quadratic fit's moment rows (and the pair weights made from them) at the current positions."""
+    def _refit_solid(self, pair_weights=True):
+        """The quadratic fit's moment rows (and, unless pair_weights is False, the pair weights made from them) at
+        the current positions. Without them the next step's gradient pass and implicit pressure use the weights the
+        last forces were made with, and the next momentum pass makes them with the new rows."""
         s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
         wk.turn[:] = 0.0
         wk.fit_refresh[0] = 0
@@ -288,9 +307,16 @@ class Simulation:
                 wk.moment_buf = np.zeros((wk.buf.shape[0], s.count, MOMENT_COUNT))
             mls_fit_rows(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows, wk.mls_order,
                          wk.moment_buf)
+            if self.solid_params.rotate_fit:     # solid/fit_rotation.py turns these from now on
+                wk.fit_rows0[:] = wk.mls_rows
+                wk.fit_rotation[:] = np.eye(3)
+                wk.fit_deformation[:] = np.eye(3)
+                wk.spin[:] = 0.0
             if wk.mls_weights.shape[0] != nb.pairs:
                 wk.mls_weights = np.zeros((nb.pairs, 6))
-            mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
+                pair_weights = True
+            if pair_weights:
+                mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
                              wk.mls_weights)
 
     def _warn_if_quadratic_fit_falls_back(self):
@@ -405,7 +431,9 @@ class Simulation:
 
     def stable_solid_dt(self):
         """dt = cfl * h / (c0 + |v|max), the solid's acoustic limit (METHOD sec. 1)."""
-        return self._stable_dt(self.spec["solid.cfl"], self.sound_speed)
+        v = self.spec.values
+        return self._stable_dt(v["solid.cfl"], self._step_wave_speed(v["solid.pressure"], self.sound_speed,
+                                                                     self.shear_modulus, v["solid.density"]))
 
     def _solid_dt(self):
         limit = self.stable_solid_dt()
@@ -483,17 +511,24 @@ class Simulation:
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
         wk, state = self.solid_work, SolidArrays.of(self.solid)
         done, force = 0, False
+        capped = int(wk.pressure_stats[3])
         while done < n:
             # the list's arrays and the pair cache are replaced by a rebuild or refit: taken anew each call
             k = solid_leapfrog(n - done, force, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period),
                                self.solid_params, wk.buffers(), ext_acc, self.clamp_mirror)
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
-                self._refit_solid()
+                self._refit_solid(pair_weights=not (self.solid_params.implicit_pressure
+                                                    or self.solid_params.rotate_fit))
                 force = False
             elif done < n:
                 self._rebuild_solid_neighbours()
                 force = True
+        if capped == 0 and wk.pressure_stats[3] > 0:    # once per run; summary.json counts them all
+            self.warnings.append(f"t = {self.time:.6g} s: a solid step reached solid.pressure_max_iterations = "
+                                 f"{self.solid_params.pressure_max_iterations} with its residual above "
+                                 f"solid.pressure_tolerance = {self.solid_params.pressure_tolerance:g} (summary.json "
+                                 f"solid_pressure_solve.capped_steps counts them)")
 
     def _advance_coupled_solid(self, fluid_dt):
         """Satake et al. sec. 2.3: the fluid's push from the step just taken, held over the solid's sub-steps."""
@@ -583,6 +618,15 @@ class Simulation:
                                 "capped_steps": capped}
 
     # ---- read-only views ----------------------------------------------------------------------------------
+    def pressure_solve_stats(self):
+        """The implicit pressure's solves so far (solid.pressure = implicit): steps, iterations per step, the most in
+        one step, steps that hit solid.pressure_max_iterations; None without it."""
+        if self.solid is None or not self.solid_params.implicit_pressure:
+            return None
+        steps, iterations, most, capped = (int(k) for k in self.solid_work.pressure_stats)
+        return {"steps": steps, "iterations_per_step": iterations / steps if steps else 0.0,
+                "iterations_max": most, "capped_steps": capped}
+
     @property
     def phases(self):
         return self.builder.PHASES

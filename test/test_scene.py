@@ -348,9 +348,15 @@ def test_time_step_above_stable_limit_is_refused():
         Simulation(spec)
     message = str(info.value)
     assert "solid.time_step" in message and "allowed" in message
-    # a step below the limit (0.25 * 1.3 mm / 176 m/s = 1.85e-6 s) is accepted
-    sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-6"]))
+    # a step below the limit is accepted: 0.25 * 1.3 mm / (176 m/s + |v|) = 1.85e-6 s with the explicit pressure (the
+    # bulk sound speed), 0.25 * 1.3 mm / (28.82 m/s + |v|) = 1.13e-5 s with the implicit one (the deviatoric waves,
+    # sqrt(4 G / 3 rho0), G = E / (2 (1 + nu)))
+    sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-6",
+                                               "solid.pressure=explicit"]))
     assert sim.stable_solid_dt() == pytest.approx(0.25 * 1.3e-3 / (176.0208 + 0.01), rel=1e-4)
+    sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-5"]))
+    shear_wave = (4.0 / 3.0 * 1.859e6 / (2.0 * 1.49) / 1000.0) ** 0.5
+    assert sim.stable_solid_dt() == pytest.approx(0.25 * 1.3e-3 / (shear_wave + 0.01), rel=1e-4)
     assert sim.solid.count == 4 * 24 + 336
 
 
@@ -486,5 +492,5 @@ def test_a_solid_cfl_past_the_quadratic_fits_tested_value_warns_and_follows_live
     assert sum("solid.cfl = 0.45" in w for w in sim.warnings) == 1
     gray = Simulation(load_scene("cantilever", [("geometry.length", 0.01), ("solid.velocity_gradient", "sph"),
                                                 ("solid.nodal_integration", "plain"),
-                                                ("solid.cfl", 0.5)]))
+                                                ("solid.pressure", "explicit"), ("solid.cfl", 0.5)]))
     assert not any("solid.cfl" in w for w in gray.warnings)

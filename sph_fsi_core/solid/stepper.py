@@ -37,6 +37,8 @@ from .gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_BLOCK_COLUMNS
 from .gray2001 import (continuity_rate, jaumann_stress_rate, momentum_rate, stress_terms,
                              xsph_velocity_and_gradient)
 from .gradient_integration import gradient_force_rows, stress_gradient_rate, velocity_hessian
+from .implicit_pressure import deviatoric_over_rho2, implicit_pressure_step
+from .fit_rotation import follow_spin, rotate_fit_rows
 from .fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_BLOCK_COLUMNS
 from .fitted_gradient import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
 
@@ -68,17 +70,27 @@ class SolidParams(NamedTuple):
     gradient_order: int    # 0: Gray's SPH gradient (the paper); 1: kernel-corrected L K^-1; 2: quadratic fit
     cell_moment: float     # m = dp^2 / 12 of the strain-gradient nodal integration (0: off)
     fit_refresh_turn: float   # refit the quadratic fit once some particle's integral of |L| dt passes this (0: never)
+    implicit_pressure: bool   # solid.pressure = implicit (solid/implicit_pressure.py); needs gradient_order 2
+    rotate_fit: bool          # solid.fit_refresh = rotate (solid/fit_rotation.py)
+    fit_refresh_strain: float   # with it: remake the rows once some neighbourhood's Green strain since passes this
+    pressure_tolerance: float       # its conjugate gradients' relative residual
+    pressure_max_iterations: int    # and their cap per step
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
-                skin, velocity_gradient="sph", nodal_integration="plain", fit_refresh_turn=0.0):
+                skin, velocity_gradient="sph", nodal_integration="plain", fit_refresh_turn=0.0, pressure="explicit",
+                pressure_tolerance=1e-4, pressure_max_iterations=200, fit_refresh="remake", fit_refresh_strain=1e-3):
     return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
                        beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
                        half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient],
                        cell_moment=spacing ** 2 / 12.0 if nodal_integration == "gradient" else 0.0,
                        fit_refresh_turn=0.0 if velocity_gradient != "quadratic" else
-                       fit_refresh_turn or (GRADIENT_FIT_REFRESH_TURN if nodal_integration == "gradient" else 0.0))
+                       fit_refresh_turn or (GRADIENT_FIT_REFRESH_TURN if nodal_integration == "gradient" else 0.0),
+                       implicit_pressure=pressure == "implicit", rotate_fit=fit_refresh == "rotate",
+                       fit_refresh_strain=fit_refresh_strain,
+                       pressure_tolerance=pressure_tolerance,
+                       pressure_max_iterations=int(pressure_max_iterations))
 
 
 class SolidArrays(NamedTuple):
@@ -142,8 +154,17 @@ class SolidBuffers(NamedTuple):
     dstress_gradient: np.ndarray  # (N or 0, 3, 6) Pa/(m s), rate of the stress gradient
     force_rows: np.ndarray        # (N or 0, 3, 9) the stress gradient's force rows
     hessian_moments: np.ndarray   # (C, N or 0, 27) per-chunk sums of the Hessian pass
-    turn: np.ndarray              # (N,) integral of |L| dt since the fit rows were made (dimensionless)
+    turn: np.ndarray              # (N,) integral of |L| dt since the fit rows were made (dimensionless); with
+                                  # solid.fit_refresh = rotate the Green strain's norm since then
     fit_refresh: np.ndarray       # (1,) int64, set to 1 by the driver when the fit rows are due
+    pressure_scalars: np.ndarray  # (6, N or 0) scratch of the implicit pressure's solve (solid/implicit_pressure.py)
+    pressure_vectors: np.ndarray  # (2, N or 0, 3) its velocity changes
+    pressure_force: np.ndarray    # (N or 0, 3) its pair forces
+    pressure_stats: np.ndarray    # (4,) int64: steps solved, iterations, most in one step, capped steps
+    fit_rows0: np.ndarray         # (N or 0, 3 or 9, 9) solid.fit_refresh = rotate: the rows as they were made
+    fit_rotation: np.ndarray      # (N or 0, 3, 3) each particle's rotation since then (solid/fit_rotation.py)
+    fit_deformation: np.ndarray   # (N or 0, 3, 3) and its deformation gradient since then
+    spin: np.ndarray              # (N or 0,) its turn since the rows were last turned
 
 
 class SolidWork:
@@ -156,7 +177,7 @@ class SolidWork:
     moment_buf are replaced when the list is rebuilt: take `buffers()` after that, for each driver call.
     """
 
-    def __init__(self, n, hessian_rows=False):
+    def __init__(self, n, hessian_rows=False, implicit_pressure=False, rotate_fit=False):
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 18))
         self.vector_buf = np.zeros(self.buf.shape[:2] + (3,))
         self.scalar_buf = np.zeros(self.buf.shape[:2])
@@ -184,6 +205,17 @@ class SolidWork:
         self.fit_refresh = np.zeros(1, dtype=np.int64)   # set by the stepper: the rows are due
         self.moment_buf = np.zeros((0, 0, 0))       # allocated on first use (chunks, N, 45)
         self.mls_weights = np.zeros((0, 6))          # pair cache (G_ab, G_ba), allocated on first use
+        k = n if implicit_pressure else 0            # solid/implicit_pressure.py's scratch, empty when it is off
+        self.pressure_scalars = np.zeros((6, k))
+        self.pressure_vectors = np.zeros((2, k, 3))
+        self.pressure_force = np.zeros((k, 3))
+        self.pressure_stats = np.zeros(4, dtype=np.int64)
+        r = n if rotate_fit else 0                   # solid/fit_rotation.py's arrays, empty when it is off
+        self.fit_rows0 = np.zeros((r,) + self.mls_rows.shape[1:])
+        self.fit_rotation = np.zeros((r, 3, 3))
+        self.fit_rotation[:] = np.eye(3)
+        self.fit_deformation = self.fit_rotation.copy()
+        self.spin = np.zeros(r)
         self.w = np.zeros(0)
         self.f = np.zeros(0)
 
@@ -198,7 +230,9 @@ class SolidWork:
                             self.art_stress, self.eig_work, self.kinv, self.mls_rows, self.mls_weights, self.w,
                             self.f, self.buf, self.vector_buf, self.scalar_buf, self.blocks, self.hessian,
                             self.dstress_gradient, self.force_rows, self.hessian_moments, self.turn,
-                            self.fit_refresh)
+                            self.fit_refresh, self.pressure_scalars, self.pressure_vectors, self.pressure_force,
+                            self.pressure_stats, self.fit_rows0, self.fit_rotation, self.fit_deformation,
+                            self.spin)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -243,6 +277,8 @@ def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
     mls_rows, mls_weights, force_rows = work.mls_rows, work.mls_weights, work.force_rows
     stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
                  eig_work)
+    if prm.implicit_pressure:   # the pressure's force comes from the step's implicit solve
+        deviatoric_over_rho2(stress, rho, sigma_over_rho2)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.gradient_order == 2:
         if prm.cell_moment > 0.0:
@@ -317,6 +353,11 @@ def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_a
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         mirror_clamp_velocities(vel, clamp_mirror)
+        if prm.implicit_pressure:
+            implicit_pressure_step(dt, vel, rho, state.pressure, mass, movable, clamp_mirror, prm.rho0, prm.c0 * prm.c0,
+                                   start, index, mls_weights, prm.pressure_tolerance, prm.pressure_max_iterations,
+                                   work.pressure_scalars, work.pressure_vectors, work.pressure_force, buf, scalar_buf,
+                                   work.pressure_stats)
         if prm.gradient_order != 2 or prm.cell_moment > 0.0:
             particle_volumes(mass, rho, volume)
         if prm.gradient_order == 2:
@@ -337,7 +378,8 @@ def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_a
             stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:
-                rho[a] += dt * drho[a]
+                if not prm.implicit_pressure:   # else rho advanced with the implicit pressure
+                    rho[a] += dt * drho[a]
                 for k in range(6):
                     stress[a, k] += dt * dstress[a, k]
                 if prm.cell_moment > 0.0:
@@ -357,7 +399,14 @@ def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_a
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         mirror_clamp_velocities(vel, clamp_mirror)
-        if prm.fit_refresh_turn > 0.0:
+        if prm.fit_refresh_turn > 0.0 and prm.rotate_fit:
+            strained, turned = follow_spin(grad_v, dt, work.fit_rotation, work.fit_deformation, turn, work.spin)
+            if strained > prm.fit_refresh_strain:
+                fit_refresh[0] = 1
+                return step + 1
+            if turned > prm.fit_refresh_turn:
+                rotate_fit_rows(work.fit_rows0, work.fit_rotation, work.spin, prm.fit_refresh_turn, mls_rows)
+        elif prm.fit_refresh_turn > 0.0:
             worst = 0.0
             for a in range(n):
                 g = grad_v[a]

@@ -15,10 +15,17 @@ class Rung:
     bound: float = None         # --quick asserts error <= bound
     note: str = ""
     snapshot_interval: float = 0.0   # particle snapshots (0: none), for the frame plots
+    counterpart: str = ""       # "case/label" of the same run made another way, reported side by side
 
     @property
     def key(self):
         return f"{self.case}/{self.label}"
+
+
+# The default scheme as the rungs that carry this were run, before it took the implicit pressure and the fit turned
+# with the body (2026-12-03: solid/implicit_pressure.py, solid/fit_rotation.py): the pressure explicit, the fit's rows
+# remade as they turn. Case `solid_pressure` runs their twins with the scheme as it is.
+EXPLICIT_PRESSURE = {"solid.pressure": "explicit", "solid.fit_refresh": "remake"}
 
 
 def cantilever_end_time(overrides, periods):
@@ -44,10 +51,13 @@ def _cantilever_shape_rungs():
     rungs = []
     for nu in CANTILEVER_SHAPE_POISSON:
         for ratio in CANTILEVER_SHAPE_SLENDERNESS:
-            overrides = {"geometry.length": ratio * 0.004, "solid.poisson_ratio": nu, "solid.clamp": "mirrored"}
+            quick = nu == 0.3 and ratio == 10     # CI's: the default scheme as it is
+            overrides = {"geometry.length": ratio * 0.004, "solid.poisson_ratio": nu, "solid.clamp": "mirrored",
+                         **({} if quick else EXPLICIT_PRESSURE)}
             rungs.append(Rung("cantilever_shapes", f"nu{nu:g}_L_over_H_{ratio}", "cantilever", overrides,
-                              periods=2.25, quick=(nu == 0.3 and ratio == 10), bound=0.02,
-                              note=f"L / H = {ratio}, nu = {nu:g}, 4 particles through, solid.clamp = mirrored"))
+                              periods=2.25, quick=quick, bound=0.02,
+                              note=f"L / H = {ratio}, nu = {nu:g}, 4 particles through, solid.clamp = mirrored"
+                                   + ("" if quick else ", solid.pressure = explicit")))
     return rungs
 
 
@@ -55,7 +65,7 @@ def _cantilever_rungs():
     rungs = []
     # quadratic_gradient, the quadratic fit with the strain-gradient nodal integration, with the fixed clamp: as these
     # rungs were run, before the scheme took the mirrored clamp (the default scheme itself: cantilever_shapes).
-    fixed = {"solid.clamp": "fixed"}
+    fixed = {"solid.clamp": "fixed", **EXPLICIT_PRESSURE}
     # Resolution ladder H/dp = 4, 6, 8 (2.25 periods of the reference each: the zero-crossing fit and the damping
     # ratio need two full periods of the tip). CI runs H/dp = 4 (the paper's spacing), bound 3 %.
     for ratio, quick in ((4, True), (6, False), (8, False)):
@@ -169,7 +179,8 @@ def _gate_rungs():
     # leaves the gate 11 % soft in bending; the strain-gradient nodal integration puts it back (docs/method.md).
     rungs.append(Rung("antoci_gate", "pressure_gradient_eps0_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, "coupling.model": "pressure",
-                       "solid.scheme": "quadratic_gradient", "solid.clamp": "fixed"}, end_time=0.4,
+                       "solid.scheme": "quadratic_gradient", "solid.clamp": "fixed", **EXPLICIT_PRESSURE},
+                      end_time=0.4,
                       note="dp = 1.67 mm, coupling pressure, solid.scheme = quadratic_gradient (strain-gradient "
                            "nodal integration, no artificial stress) with the fixed clamp"))
     for dp, label, extra in ((0.002, "dp2mm", {"geometry.gate_clamp_height": 0.004}), (0.001, "dp1mm", {})):
@@ -194,27 +205,33 @@ def _gate_rungs():
 # verification issue's items 5 and 6): the paper's gate at its 1 mm against its figures' window and Gray's run above,
 # Antoci's on a ladder of 3 / 4 / 5 particles through the gate against the experiment.
 def _gate_default_rungs():
-    rungs = [Rung("gate_default", "elastic_gate_dp1mm", "elastic_gate", {"numerics.spacing": 0.001}, end_time=0.14,
-                  snapshot_interval=0.02, note="the paper's gate at its 1 mm, the scene as it is")]
-    for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm"), (0.001, "dp1mm")):
-        rungs.append(Rung("gate_default", f"antoci_gate_{label}", "antoci_gate", {"numerics.spacing": dp},
+    """As they were run: with the pressure explicit (EXPLICIT_PRESSURE); their twins with the implicit pressure, and
+    the Antoci ladder's third rung (1 mm), are case `solid_pressure`'s."""
+    explicit = EXPLICIT_PRESSURE
+    rungs = [Rung("gate_default", "elastic_gate_dp1mm", "elastic_gate", {"numerics.spacing": 0.001, **explicit},
+                  end_time=0.14, snapshot_interval=0.02, note="the paper's gate at its 1 mm, solid.pressure = explicit")]
+    for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm")):
+        rungs.append(Rung("gate_default", f"antoci_gate_{label}", "antoci_gate", {"numerics.spacing": dp, **explicit},
                           end_time=0.4, note=f"dp = {dp * 1e3:.3g} mm ({round(0.005 / dp)} particles through the gate), "
-                                             f"the scene as it is; free end vs Antoci et al. 2007"))
+                                             f"solid.pressure = explicit; free end vs Antoci et al. 2007"))
     # the other published material (CoCoNuT's row of reference/antoci2007_material_by_source.csv): the band's edge
     rungs.append(Rung("gate_default", "antoci_gate_E10MPa_nu0.49_dp1.67mm", "antoci_gate",
-                      {"numerics.spacing": 0.005 / 3, "solid.young_modulus": 1.0e7, "solid.poisson_ratio": 0.49},
-                      end_time=0.4, note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 5/3 mm"))
+                      {"numerics.spacing": 0.005 / 3, "solid.young_modulus": 1.0e7, "solid.poisson_ratio": 0.49,
+                       **explicit}, end_time=0.4,
+                      note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 5/3 mm, solid.pressure = "
+                           "explicit"))
     # the water settled at rest behind the gate (held straight, a plug in the gap) before t = 0 (fluid.settle_time;
     # the verification issue's item 7), and the paper's gate with the 0.1 % tolerance as well
     rungs += [Rung("gate_default", "elastic_gate_settled_dp1mm", "elastic_gate",
-                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1}, end_time=0.14,
-                   note="the paper's gate at 1 mm, the water settled 0.1 s behind it"),
+                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, **explicit}, end_time=0.14,
+                   note="the paper's gate at 1 mm, the water settled 0.1 s behind it, solid.pressure = explicit"),
               Rung("gate_default", "elastic_gate_settled_tolerance0.1pct_dp1mm", "elastic_gate",
-                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, "fluid.density_tolerance": 0.001},
-                   end_time=0.14, note="the paper's gate at 1 mm, settled, density tolerance 0.1 %"),
+                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, "fluid.density_tolerance": 0.001,
+                    **explicit}, end_time=0.14,
+                   note="the paper's gate at 1 mm, settled, density tolerance 0.1 %, solid.pressure = explicit"),
               Rung("gate_default", "antoci_gate_settled_dp1.67mm", "antoci_gate",
-                   {"numerics.spacing": 0.005 / 3, "fluid.settle_time": 0.2}, end_time=0.4,
-                   note="Antoci's gate at dp = 5/3 mm, the water settled 0.2 s behind it")]
+                   {"numerics.spacing": 0.005 / 3, "fluid.settle_time": 0.2, **explicit}, end_time=0.4,
+                   note="Antoci's gate at dp = 5/3 mm, the water settled 0.2 s behind it, solid.pressure = explicit")]
     return rungs
 
 
@@ -229,8 +246,11 @@ def _solid_static_rungs():
     default scheme with the mirrored clamp (whose face is where the FE clamp is)."""
     rungs = []
     thickness = 0.05
-    variants = [(scheme, {"solid.scheme": scheme, "solid.clamp": "fixed"}) for scheme in SOLID_STATIC_SCHEMES]
-    variants.append(("quadratic_gradient_mirrored", {"solid.scheme": "quadratic_gradient", "solid.clamp": "mirrored"}))
+    variants = [(scheme, {"solid.scheme": scheme, "solid.clamp": "fixed",
+                          **(EXPLICIT_PRESSURE if scheme == "quadratic_gradient" else {})})
+                for scheme in SOLID_STATIC_SCHEMES]
+    variants.append(("quadratic_gradient_mirrored", {"solid.scheme": "quadratic_gradient", "solid.clamp": "mirrored",
+                                                     **EXPLICIT_PRESSURE}))
     for name, overrides in variants:
         for layers in SOLID_STATIC_LAYERS:
             dp = thickness / layers
@@ -254,7 +274,7 @@ HYDROSTATIC_PLATE_LAYERS = (4, 6, 8, 10)
 def _hydrostatic_plate_rungs():
     rungs = []
     thickness = 0.05
-    common = {"fluid.time_step": 1.0e-3}
+    common = {"fluid.time_step": 1.0e-3, **EXPLICIT_PRESSURE}
     for layers in HYDROSTATIC_PLATE_LAYERS:
         dp = thickness / layers
         rungs.append(Rung("hydrostatic_plate", f"scaled_t_over_dp_{layers}", "hydrostatic_plate",
@@ -288,11 +308,11 @@ def _gate_static_rungs():
                           end_time=0.4, note=f"{through} particles through the gate, the exact pressure, solid.scheme "
                                              f"= quadratic_plain_artificial_stress"))
         rungs.append(Rung("gate_static", f"loaded_gradient_mirrored_{label}", "antoci_gate_loaded",
-                          {"numerics.spacing": dp}, end_time=0.4,
+                          {"numerics.spacing": dp, **EXPLICIT_PRESSURE}, end_time=0.4,
                           note=f"{through} particles through the gate, the exact pressure, the default scheme "
                                f"(quadratic_gradient, mirrored clamp)"))
         rungs.append(Rung("gate_static", f"coupled_gradient_mirrored_{label}", "antoci_gate_static",
-                          {"numerics.spacing": dp}, end_time=1.0,
+                          {"numerics.spacing": dp, **EXPLICIT_PRESSURE}, end_time=1.0,
                           note=f"{through} particles through the gate, coupled, the default scheme "
                                f"(quadratic_gradient, mirrored clamp)"))
     return rungs
@@ -312,8 +332,9 @@ LARGE_DEFLECTION_LOADS = (0.05, 2.0, 4.0)
 
 
 def _large_deflection_rungs():
-    rungs = [Rung("large_deflection", f"alpha_{a:g}", "cantilever_loaded", {"geometry.load_parameter": a},
-                  end_time=0.25, note=f"alpha = {a:g}, the default scheme") for a in LARGE_DEFLECTION_LOADS]
+    rungs = [Rung("large_deflection", f"alpha_{a:g}", "cantilever_loaded",
+                  {"geometry.load_parameter": a, **EXPLICIT_PRESSURE}, end_time=0.25,
+                  note=f"alpha = {a:g}, the default scheme, solid.pressure = explicit") for a in LARGE_DEFLECTION_LOADS]
     rungs += [Rung("large_deflection", f"gray2001_alpha_{a:g}", "cantilever_loaded",
                    {"geometry.load_parameter": a, "solid.scheme": "gray2001"}, end_time=0.25,
                    note=f"alpha = {a:g}, Gray's scheme (fixed clamp)") for a in (0.05, 4.0)]
@@ -323,10 +344,41 @@ def _large_deflection_rungs():
     return rungs
 
 
+def _twin(rung, label=None, **changes):
+    """`rung` with the default scheme's implicit pressure (its EXPLICIT_PRESSURE pin dropped), in case
+    solid_pressure, its explicit run as the counterpart."""
+    overrides = {k: v for k, v in rung.overrides.items() if k not in EXPLICIT_PRESSURE}
+    note = rung.note.replace(", solid.pressure = explicit", "").replace("solid.pressure = explicit", "")
+    return Rung("solid_pressure", label or f"{rung.case}_{rung.label}", rung.scene, overrides, periods=rung.periods,
+                end_time=rung.end_time, note=f"{note.rstrip(', ')}; the implicit pressure", counterpart=rung.key,
+                **changes)
+
+
+def _solid_pressure_rungs():
+    """The default scheme's validated runs again with its pressure implicit (solid/implicit_pressure.py, since
+    2026-12-03), each beside its explicit counterpart: how far the step set by the shear waves moves each answer, and
+    what it saves. The gain is sqrt(3 K / 4 G): 6.1x at nu = 0.49, 1.9x at 0.4, 1.3x at 0.3. And the Antoci
+    ladder's third rung (1 mm, 5 particles through the gate), affordable with it."""
+    by_key = {r.key: r for r in (_cantilever_shape_rungs() + _large_deflection_rungs() + _solid_static_rungs()
+                                 + _gate_default_rungs() + _gate_static_rungs() + _hydrostatic_plate_rungs())}
+    keys = ([f"cantilever_shapes/nu{nu:g}_L_over_H_10" for nu in (0.4, 0.49)]
+            + ["cantilever_shapes/nu0.49_L_over_H_20", "cantilever_shapes/nu0.49_L_over_H_30"]
+            + [f"large_deflection/alpha_{a:g}" for a in LARGE_DEFLECTION_LOADS]
+            + [f"solid_static/quadratic_gradient_mirrored_t_over_dp_{n}" for n in (4, 6)]
+            + ["gate_static/loaded_gradient_mirrored_dp1.67mm", "hydrostatic_plate/scaled_t_over_dp_4",
+               "gate_default/elastic_gate_dp1mm", "gate_default/antoci_gate_dp1.67mm",
+               "gate_default/antoci_gate_dp1.25mm"])
+    rungs = [_twin(by_key[k]) for k in keys]
+    rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_dp1mm", "antoci_gate", {"numerics.spacing": 0.001},
+                      end_time=0.4, note="dp = 1 mm (5 particles through the gate); free end vs Antoci et al. 2007; "
+                                         "the implicit pressure"))
+    return rungs
+
+
 def all_rungs():
     return (_cantilever_rungs() + _cantilever_shape_rungs() + _large_deflection_rungs() + _solid_static_rungs()
             + _hydrostatic_plate_rungs() + _fluid_rungs() + _gate_rungs() + _gate_default_rungs()
-            + _gate_static_rungs())
+            + _gate_static_rungs() + _solid_pressure_rungs())
 
 
 # Names that select several cases at once.

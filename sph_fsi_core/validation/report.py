@@ -1,6 +1,7 @@
 """REPORT.md and PNG plots of `sph-fsi validate`, made from the rungs' summary.json files (no simulation here)."""
 import csv
 import datetime
+import json
 import math
 from pathlib import Path
 
@@ -67,6 +68,67 @@ def _row(rung, s):
             f"{moving} | {steps} | {s['wall_time_s']:.1f} | "
             f"{_fmt(s['particle_steps_per_second'] / 1e6, '.3f')} | {measured} | {ref} | {err} | {stable} | "
             f"{m.get('numba_threads', '-')}, {m.get('commit', '-')} |")
+
+
+def _answer(s):
+    """The number a run is judged on, as (value, unit text, scale to that unit): the frequency, a static deflection or a
+    gate's peak."""
+    for key, unit, scale in (("frequency_hz", "Hz", 1.0), ("midspan_deflection_m", "um", 1e6),
+                             ("tip_x_peak_m", "mm", 1e3), ("tip_dx_peak_m", "mm", 1e3),
+                             ("tip_deflection_m", "mm", 1e3)):
+        if s.get(key) is not None:
+            return s[key], unit, scale
+    return None, "", 1.0
+
+
+def _error_text(s):
+    e = s.get("error_signed", s.get("error"))
+    if s.get("frequency_hz") is not None and s.get("reference_hz"):
+        e = s["frequency_hz"] / s["reference_hz"] - 1.0
+    return "-" if e is None else f"{100 * e:+.2f} %"
+
+
+def _solid_pressure_extra(out_dir, rungs, summaries):
+    """Each solid_pressure run beside its explicit counterpart (read from the counterpart case's own report
+    directory next to this one, runs/CASE/LABEL/summary.json): the answer, its error, the steps and the wall time."""
+    runs = [r for r in rungs if r.case == "solid_pressure"]
+    if not runs:
+        return []
+    lines = ["", "## The implicit pressure against the explicit one", "",
+             "Each run with the default scheme's pressure advanced implicitly (solid/implicit_pressure.py; the step set "
+             "by the shear waves) beside the same run with it explicit (the counterpart's own report, where it was "
+             "validated). Moved: the answer's relative change. Wall times: each run's own host state (the column "
+             "`threads, commit` above and the counterpart's report); compare them as orders, and the same-process "
+             "ratio in docs/performance/BENCH.md.", "",
+             "| run | explicit: answer, error | solid steps | wall [s] | implicit: answer, error | solid steps | "
+             "wall [s] | moved | fewer steps | CG iterations per step |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in runs:
+        new = summaries.get(r.key)
+        old = None
+        if r.counterpart:
+            case, label = r.counterpart.split("/")
+            path = Path(out_dir).parent / case / "runs" / case / label / "summary.json"
+            old = json.loads(path.read_text()) if path.is_file() else None
+
+        def cells(s):
+            if s is None:
+                return ["not run", "", ""]
+            value, unit, scale = _answer(s)
+            answer = "-" if value is None else f"{scale * value:.4g} {unit}"
+            return [f"{answer}, {_error_text(s)}", f"{s['solid_steps']}", f"{s['wall_time_s']:.0f}"]
+
+        moved = steps = "-"
+        if new is not None and old is not None:
+            a, b = _answer(old)[0], _answer(new)[0]
+            if a and b is not None:
+                moved = f"{100 * (b / a - 1.0):+.2f} %"
+            if new["solid_steps"]:
+                steps = f"{old['solid_steps'] / new['solid_steps']:.2f}x"
+        solve = (new or {}).get("solid_pressure_solve") or {}
+        iterations = _fmt(solve.get("iterations_per_step"), ".1f")
+        label = r.label if r.counterpart else f"{r.label} (no explicit run)"
+        lines.append(f"| {label} | " + " | ".join(cells(old) + cells(new)) + f" | {moved} | {steps} | {iterations} |")
+    return lines
 
 
 def _large_deflection_extra(rungs, summaries):
@@ -655,6 +717,7 @@ def write_report(out_dir, rungs, summaries):
     lines += _gate_static_extra(rungs, summaries)
     lines += _fluid_extra(rungs, summaries)
     lines += _gate_extra(rungs, summaries)
+    lines += _solid_pressure_extra(out, rungs, summaries)
     lines += ["", "## Plots", ""] + [f"![{p}]({p})" for p in plots]
     (out / "REPORT.md").write_text("\n".join(lines) + "\n")
     return out / "REPORT.md"

@@ -1,0 +1,154 @@
+"""The solid's implicit pressure (`solid.pressure: implicit`, sph_fsi_core/solid/implicit_pressure.py) against its own
+equations, checked by brute force on the paper's beam (1,296 particles, the quadratic fit's pair weights):
+
+- the solve's answer satisfies the backward-Euler step it stands for, p' = p - K dt theta(v'), and the velocity change
+  is the impulse dt M^-1 D^T V p' of that pressure (each computed again here from the pair passes);
+- the pair forces conserve momentum to round-off on a free body (no clamp), and the clamp's ghosts stay the odd image
+  of the body;
+- the operator A the conjugate gradients invert, assembled column by column, is symmetric positive definite;
+- a pressure wave is stable at a step six times the explicit limit (where the explicit pressure blows up), and the
+  step is set by sqrt(4 G / 3 rho0).
+"""
+import math
+
+import numpy as np
+import pytest
+
+from sph_fsi_core.scene import load_scene
+from sph_fsi_core.schema import SceneError
+from sph_fsi_core.simulation import Simulation
+from sph_fsi_core.solid import implicit_pressure as ip
+
+BEAM = ["output.snapshot_interval=0", "solid.pressure=implicit"]
+
+
+@pytest.fixture(scope="module")
+def beam():
+    sim = Simulation(load_scene("cantilever", BEAM))
+    for _ in range(2):
+        sim.step()
+    return sim
+
+
+def _solve(sim, vel, pressure, movable=None, mirror=None, dt=None, tolerance=1e-12):
+    s, nb, wk, prm = sim.solid, sim.solid_neighbours, sim.solid_work, sim.solid_params
+    vel, pressure, rho = vel.copy(), pressure.copy(), prm.rho0 + pressure / prm.c0 ** 2
+    movable = s.movable if movable is None else movable
+    mirror = sim.clamp_mirror if mirror is None else mirror
+    dt = sim.last_solid_dt if dt is None else dt
+    stats = np.zeros(4, dtype=np.int64)
+    ip.implicit_pressure_step(dt, vel, rho, pressure, s.mass, movable, mirror, prm.rho0, prm.c0 ** 2, nb.start,
+                              nb.index, wk.mls_weights, tolerance, 500, np.zeros((6, s.count)),
+                              np.zeros((2, s.count, 3)), np.zeros((s.count, 3)), wk.buf, wk.scalar_buf, stats)
+    return vel, rho, pressure, stats
+
+
+def _random_state(sim, seed):
+    rng = np.random.default_rng(seed)
+    n = sim.solid.count
+    vel = rng.normal(scale=0.1, size=(n, 3))
+    pressure = rng.normal(scale=1e4, size=n)
+    for g, m in enumerate(sim.clamp_mirror):      # the ghosts as the stepper leaves them
+        if m >= 0:
+            vel[g] = -vel[m]
+    pressure[~sim.solid.movable] = 0.0            # the mirrored clamp's particles carry no stress
+    return vel, pressure
+
+
+def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
+    s, nb, wk, prm = beam.solid, beam.solid_neighbours, beam.solid_work, beam.solid_params
+    vel0, p0 = _random_state(beam, 1)
+    dt = beam.last_solid_dt
+    vel, rho, p, stats = _solve(beam, vel0, p0)
+    assert 0 < stats[ip.ITERATIONS] < 500 and stats[ip.CAPPED] == 0
+    body = s.movable
+    rho0_step = prm.rho0 + p0 / prm.c0 ** 2
+    theta = np.zeros(s.count)
+    ip.fitted_divergence(vel, nb.start, nb.index, wk.mls_weights, wk.scalar_buf, theta)
+    k = prm.c0 ** 2 * rho0_step
+    expected = p0 - k * dt * theta
+    assert np.abs(p - expected)[body].max() < 1e-8 * np.abs(p0).max()
+    assert np.allclose(rho, prm.rho0 + p / prm.c0 ** 2, rtol=0, atol=1e-12 * prm.rho0)
+    # the impulse: pair forces of the new pressure with the step's volumes, ghosts folded onto their images
+    force = np.zeros((s.count, 3))
+    ip.pressure_forces(p, s.mass / rho0_step, nb.start, nb.index, wk.mls_weights, wk.buf, force)
+    for g, m in enumerate(beam.clamp_mirror):
+        if m >= 0:
+            force[m] -= force[g]
+    change = vel - vel0
+    assert np.abs(change[body] - dt * force[body] / s.mass[body, None]).max() < 1e-9 * np.abs(change).max()
+    ghosts = beam.clamp_mirror >= 0
+    assert np.array_equal(vel[ghosts], -vel[beam.clamp_mirror[ghosts]])
+    assert np.array_equal(p[ghosts], p0[ghosts])
+
+
+def test_pair_forces_conserve_momentum_on_a_free_body(beam):
+    n = beam.solid.count
+    vel0, p0 = _random_state(beam, 2)
+    free = np.ones(n, dtype=bool)
+    vel, _, _, _ = _solve(beam, vel0, p0, movable=free, mirror=np.zeros(0, dtype=np.int64))
+    m = beam.solid.mass[:, None]
+    impulse = (m * (vel - vel0)).sum(axis=0)
+    scale = (m * np.abs(vel - vel0)).sum()
+    assert np.abs(impulse).max() < 1e-13 * scale
+
+
+def test_the_operator_is_symmetric_positive_definite(beam):
+    s, nb, wk, prm = beam.solid, beam.solid_neighbours, beam.solid_work, beam.solid_params
+    n, dt = s.count, 3.0 * beam.last_solid_dt
+    volume = s.mass / s.rho
+    inv_k = 1.0 / (prm.c0 ** 2 * s.rho)
+    unknown = s.movable.copy()
+    index = np.flatnonzero(unknown)
+    a = np.zeros((len(index), len(index)))
+    x, y, theta = np.zeros(n), np.zeros(n), np.zeros(n)
+    force, u = np.zeros((n, 3)), np.zeros((n, 3))
+    for col, i in enumerate(index):
+        x[:] = 0.0
+        x[i] = 1.0
+        ip._apply(x, volume, inv_k, unknown, s.mass, s.movable, beam.clamp_mirror, nb.start, nb.index,
+                  wk.mls_weights, dt, wk.buf, wk.scalar_buf, force, u, theta, y)
+        a[:, col] = y[index]
+    assert np.abs(a - a.T).max() < 1e-12 * np.abs(a).max()
+    # the dynamic part dominates the compliance V / K at this step: not a diagonal matrix in disguise
+    assert np.abs(a - np.diag(np.diag(a))).max() > 0.1 * (volume * inv_k).max()
+    assert np.linalg.eigvalsh(0.5 * (a + a.T)).min() > 0.5 * (volume * inv_k)[index].min()
+
+
+def test_the_step_is_set_by_the_deviatoric_waves():
+    explicit = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", "solid.pressure=explicit"]))
+    implicit = Simulation(load_scene("cantilever", BEAM))
+    shear, rho0, cfl, h = implicit.shear_modulus, implicit.spec["solid.density"], implicit.spec["solid.cfl"], implicit.h
+    vmax = np.sqrt((implicit.solid.vel ** 2).sum(axis=1).max())     # the beam starts moving
+    assert implicit.stable_solid_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
+                                                       rel=1e-12)
+    assert explicit.stable_solid_dt() == pytest.approx(cfl * h / (explicit.sound_speed + vmax), rel=1e-12)
+    assert implicit.stable_solid_dt() / explicit.stable_solid_dt() > 5.5      # nu = 0.49
+
+
+def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_take():
+    """The beam squeezed by 1 % and let go: stepped at its own stable step (6x the explicit pressure's) the implicit
+    pressure's waves decay; the explicit pressure at 4x its stable step grows without bound."""
+    def run(pressure, chunks, steps):
+        sim = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", f"solid.pressure={pressure}",
+                                                   "scene.gravity=[0, 0, 0]"]))
+        dt = 4.0 * sim.stable_solid_dt() if pressure == "explicit" else sim.stable_solid_dt()
+        sim.solid.vel[:] = 0.0
+        sim.solid.rho[sim.solid.movable] *= 1.01
+        worst = []
+        for _ in range(chunks):
+            sim._advance_solid(steps, dt)
+            worst.append(float(np.abs(sim.solid.rho[sim.solid.movable] / sim.spec["solid.density"] - 1.0).max()))
+            if not worst[-1] < 0.02:
+                break
+        return worst, dt
+    implicit, dt_implicit = run("implicit", 5, 200)
+    assert max(implicit) < 0.011 and implicit[-1] < 0.1 * 0.01, implicit
+    explicit, dt_explicit = run("explicit", 20, 10)
+    assert dt_implicit > 1.5 * dt_explicit
+    assert not explicit[-1] < 0.02, explicit     # grown past 2 % (or to nan)
+
+
+def test_implicit_pressure_needs_the_quadratic_fit():
+    with pytest.raises(SceneError, match="solid.pressure = implicit.*allowed: quadratic"):
+        Simulation(load_scene("cantilever", BEAM + ["solid.scheme=gray2001"]))
