@@ -378,8 +378,7 @@ def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_a
             stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
         for a in range(n):
             if movable[a] or not ghost_clamp:
-                if not prm.implicit_pressure:   # else rho advanced with the implicit pressure
-                    rho[a] += dt * drho[a]
+                rho[a] += dt * drho[a]
                 for k in range(6):
                     stress[a, k] += dt * dstress[a, k]
                 if prm.cell_moment > 0.0:
