@@ -12,8 +12,11 @@ from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.fitted_gradient import xsph_velocity_and_mls_gradient
 from sph_fsi_core.solid.stepper import mirror_clamp_velocities
 
+# The pressure explicit and the fit remade, as these were measured: they watch the energy, which the implicit
+# pressure (the default scheme's since 2026-12-03) does not keep: it damps the pressure waves (test_implicit_pressure.py)
 SMALL_BEAM = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_margin=2",
-              "output.snapshot_interval=0", "output.timeseries_interval=5e-5", "scene.end_time=0.03"]
+              "output.snapshot_interval=0", "output.timeseries_interval=5e-5", "scene.end_time=0.03",
+              "solid.pressure=explicit", "solid.fit_refresh=remake"]
 
 
 def test_each_clamp_particle_behind_the_beam_mirrors_the_beam_particle_at_its_image():

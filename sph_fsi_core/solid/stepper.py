@@ -10,7 +10,11 @@ One step of size dt, with a^n the acceleration at r^n (from the previous step):
     v^{n+1}   = v^{n+1/2} + dt/2 a^{n+1}                          (kick)
 
 Second order, three passes over the pairs per step (four with solid.nodal_integration = gradient, whose stress
-gradient advances with S: solid/gradient_integration.py). The artificial viscosity in a^{n+1} uses v^{n+1/2} (the
+gradient advances with S: solid/gradient_integration.py). With solid.pressure = implicit the kicks carry the
+deviatoric stress only, and after the first one the velocity takes the pressure's impulse over the whole step
+from the implicit solve (solid/implicit_pressure.py: backward Euler, a step set by the shear waves); rho still
+advances by eq. (3). With solid.fit_refresh = rotate the quadratic fit's rows turn with each particle between
+remakes (solid/fit_rotation.py). The artificial viscosity in a^{n+1} uses v^{n+1/2} (the
 velocity at n+1 is not known yet).
 
 Clamp particles (movable False) keep r fixed. With solid.clamp = fixed they keep v = 0 but update rho and S (clamp
