@@ -30,7 +30,6 @@ whatever the solve's tolerance.
 """
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from ..numerics.neighbours import chunk_first_target, unsigned
@@ -40,6 +39,18 @@ _X, _R, _Z, _D, _Q, _DIAG = range(6)
 _U_X, _U_D = range(2)
 # SolidWork.pressure_stats: steps solved, iterations summed, most iterations in one step, steps that hit the cap
 STEPS, ITERATIONS, MOST, CAPPED = range(4)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _unknown(a, movable, ghost_clamp):
+    """Whether particle a's pressure is solved for: its density advances (solid.stepper.solid_leapfrog's rule)."""
+    return movable[a] or not ghost_clamp
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _compliance(a, rho, c0_squared):
+    """1 / K_a, K_a = c0^2 rho_a: the pressure's change per volumetric strain (eq. (3) with p = c0^2 (rho - rho0))."""
+    return 1.0 / (c0_squared * rho[a])
 
 
 def deviatoric_wave_speed(shear_modulus, density):
@@ -111,7 +122,7 @@ def fitted_divergence(u, start, index, weights, buf, theta):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _diagonal(mass, volume, inv_k, unknown, start, index, weights, dt, buf, diag):
+def _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, diag):
     """diag_a = V_a / K_a + dt^2 V_a^2 (|sum_b G_ab|^2 / m_a + sum_b |G_ab|^2 / m_b): A's diagonal, the clamp's
     folding left out (the preconditioner needs no more); 1 for the particles that are not unknowns."""
     n = mass.shape[0]
@@ -131,7 +142,7 @@ def _diagonal(mass, volume, inv_k, unknown, start, index, weights, dt, buf, diag
                 out[b, 2] += weights[s, 5]
                 out[b, 3] += (weights[s, 3] ** 2 + weights[s, 4] ** 2 + weights[s, 5] ** 2) / mass[a]
     for a in prange(n):
-        if not unknown[a]:
+        if not _unknown(a, movable, ghost_clamp):
             diag[a] = 1.0
             continue
         sx = sy = sz = sq = 0.0
@@ -140,7 +151,7 @@ def _diagonal(mass, volume, inv_k, unknown, start, index, weights, dt, buf, diag
             sy += buf[c, a, 1]
             sz += buf[c, a, 2]
             sq += buf[c, a, 3]
-        diag[a] = volume[a] * inv_k[a] + dt * dt * volume[a] * volume[a] * ((sx * sx + sy * sy + sz * sz) / mass[a]
+        diag[a] = volume[a] * _compliance(a, rho, c0_squared) + dt * dt * volume[a] * volume[a] * ((sx * sx + sy * sy + sz * sz) / mass[a]
                                                                           + sq)
 
 
@@ -168,14 +179,15 @@ def _velocity_change(force, mass, movable, clamp_mirror, dt, u):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _apply(x, volume, inv_k, unknown, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
+def _apply(x, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
            u, theta, y):
     """y = A x and u = dt P M^-1 P^T D^T V x (the velocity change the pressures x give)."""
     pressure_forces(x, volume, start, index, weights, buf, force)
     _velocity_change(force, mass, movable, clamp_mirror, dt, u)
     fitted_divergence(u, start, index, weights, scalar_buf, theta)
     for a in range(x.shape[0]):
-        y[a] = volume[a] * (x[a] * inv_k[a] + dt * theta[a]) if unknown[a] else 0.0
+        y[a] = (volume[a] * (x[a] * _compliance(a, rho, c0_squared) + dt * theta[a])
+                if _unknown(a, movable, clamp_mirror.shape[0] > 0) else 0.0)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -187,7 +199,7 @@ def _dot(a, b):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def implicit_pressure_step(dt, vel, rho, pressure, mass, movable, clamp_mirror, rho0, c0_squared, start, index,
+def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_mirror, c0_squared, start, index,
                            weights, tolerance, max_iterations, scalars, vectors, force, buf, scalar_buf, stats):
     """One step's pressure (module docstring): vel (the half-kicked velocity) takes the new pressure's impulse.
     rho and pressure are left to the continuity equation, which the stepper then advances with the velocity gradient
@@ -199,30 +211,25 @@ def implicit_pressure_step(dt, vel, rho, pressure, mass, movable, clamp_mirror, 
 
     Conjugate gradients with the diagonal preconditioner, stopped when |r| <= tolerance |b| (2-norms) or after
     max_iterations; `stats` (4,) accumulates steps, iterations, the most in one step and the capped steps.
-    `scalars` (6, N), `vectors` (2, N, 3), `force` (N, 3) scratch; scalars[_X] keeps the solution's change, the
-    next step's warm start (the old pressure plus it).
+    `volume` (N,): m / rho at the step's start (solid.stepper.particle_volumes). `scalars` (6, N), `vectors`
+    (2, N, 3), `force` (N, 3) scratch; scalars[_X] keeps the solution's change, the next step's warm start (the
+    old pressure plus it).
     """
     n = vel.shape[0]
     ghost_clamp = clamp_mirror.shape[0] > 0
     x, r, z, d, q, diag = scalars[_X], scalars[_R], scalars[_Z], scalars[_D], scalars[_Q], scalars[_DIAG]
     ux, ud = vectors[_U_X], vectors[_U_D]
-    volume = np.empty(n)
-    inv_k = np.empty(n)
-    unknown = np.empty(n, dtype=np.bool_)
-    for a in range(n):
-        volume[a] = mass[a] / rho[a]
-        inv_k[a] = 1.0 / (c0_squared * rho[a])
-        unknown[a] = movable[a] or not ghost_clamp
     # b = V p / K - dt V theta(P v); v already holds the ghosts' images
     fitted_divergence(vel, start, index, weights, scalar_buf, q)
     for a in range(n):
-        r[a] = volume[a] * (pressure[a] * inv_k[a] - dt * q[a]) if unknown[a] else 0.0
+        r[a] = (volume[a] * (pressure[a] * _compliance(a, rho, c0_squared) - dt * q[a])
+                if _unknown(a, movable, ghost_clamp) else 0.0)
     b_norm = math.sqrt(_dot(r, r))
     # from the old pressure plus its last step's change (x holds it; checkpoints keep it with the rest of the work)
     for a in range(n):
-        x[a] = pressure[a] + x[a] if unknown[a] else 0.0
-    _diagonal(mass, volume, inv_k, unknown, start, index, weights, dt, buf, diag)
-    _apply(x, volume, inv_k, unknown, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
+        x[a] = pressure[a] + x[a] if _unknown(a, movable, ghost_clamp) else 0.0
+    _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, diag)
+    _apply(x, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
            ux, q, z)
     for a in range(n):
         r[a] -= z[a]
@@ -232,7 +239,7 @@ def implicit_pressure_step(dt, vel, rho, pressure, mass, movable, clamp_mirror, 
     iterations = 0
     while math.sqrt(_dot(r, r)) > tolerance * b_norm and iterations < max_iterations:
         # z is free until the preconditioner refills it: theta's scratch here
-        _apply(d, volume, inv_k, unknown, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf,
+        _apply(d, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf,
                force, ud, z, q)
         dq = _dot(d, q)
         if dq <= 0.0:
@@ -254,7 +261,7 @@ def implicit_pressure_step(dt, vel, rho, pressure, mass, movable, clamp_mirror, 
     for a in range(n):
         for k in range(3):
             vel[a, k] += ux[a, k]
-        x[a] = x[a] - pressure[a] if unknown[a] else 0.0      # the next step's warm start
+        x[a] = x[a] - pressure[a] if _unknown(a, movable, ghost_clamp) else 0.0      # the next step's warm start
     stats[STEPS] += 1
     stats[ITERATIONS] += iterations
     stats[MOST] = max(stats[MOST], iterations)

@@ -357,13 +357,13 @@ def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_a
                 for k in range(3):
                     vel[a, k] += 0.5 * dt * acc[a, k]
         mirror_clamp_velocities(vel, clamp_mirror)
+        if prm.gradient_order != 2 or prm.cell_moment > 0.0 or prm.implicit_pressure:
+            particle_volumes(mass, rho, volume)     # rho is the step's start's until the update below
         if prm.implicit_pressure:
-            implicit_pressure_step(dt, vel, rho, state.pressure, mass, movable, clamp_mirror, prm.rho0, prm.c0 * prm.c0,
+            implicit_pressure_step(dt, vel, rho, volume, state.pressure, mass, movable, clamp_mirror, prm.c0 * prm.c0,
                                    start, index, mls_weights, prm.pressure_tolerance, prm.pressure_max_iterations,
                                    work.pressure_scalars, work.pressure_vectors, work.pressure_force, buf, scalar_buf,
                                    work.pressure_stats)
-        if prm.gradient_order != 2 or prm.cell_moment > 0.0:
-            particle_volumes(mass, rho, volume)
         if prm.gradient_order == 2:
             xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v,
                                            buf)
