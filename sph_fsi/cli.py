@@ -112,7 +112,7 @@ def _check_writable_file(option, path):
 
 def _cmd_run(args):
     import time
-    from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, kernels_cached
+    from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, scene_kernels_cached
     from sph_fsi_core.run import Interrupted, run_scene
     from sph_fsi_core.memory_guard import MAX_PARTICLES_ENV
     from sph_fsi_core.scene import load_scene
@@ -154,7 +154,7 @@ def _cmd_run(args):
               f"before t = 0", file=sys.stderr)
     state = {"rec": None, "sim": None, "stats": None, "samples": 0}
     started = time.perf_counter()
-    cold = kernels_cached(spec.phases) is False
+    cold = scene_kernels_cached(spec) is False
     if cold:
         print(f"sph-fsi: {COMPILING_LINE}", file=sys.stderr)
     with _Signals() as signals:

@@ -25,7 +25,7 @@ import time
 import traceback
 from collections import deque
 
-from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, kernels_cached
+from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, scene_kernels_cached
 from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
@@ -345,7 +345,7 @@ class Runner:
 
     def _build(self, spec, restored=None):
         started = time.monotonic()
-        cold = kernels_cached(spec.phases) is False
+        cold = scene_kernels_cached(spec) is False
         if cold:
             self.log.info(COMPILING_LINE)
         run = Run(spec, restored=restored)

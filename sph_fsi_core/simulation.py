@@ -1,11 +1,12 @@
 """The one time loop. `Simulation` builds a scene's phases and advances them; everything else only reads state.
 
-`step()` advances one outer step, one time-series interval. The solid takes it as an integer number of solid
-steps no larger than the stable step; the loop over solid steps runs compiled (solid.stepper.solid_leapfrog).
-The fluid takes it as whole fluid steps (fluid.stepper.FluidSolver.step), each no larger than its stable step,
-the last ones shortened evenly so the interval ends on a step. After every outer step the watchdog checks the
-state, so a run that goes wrong stops within one outer step with a diagnosis and nothing non-finite ever leaves
-the simulator. Phases a scene does not have are None and cost nothing: no arrays, lists or passes.
+`step()` advances one outer step, one time-series interval. The solid takes it as an integer number of solid steps
+no larger than the stable step; the loop over solid steps runs compiled (solid.stepper.fitted_leapfrog or
+sph_leapfrog, the scheme's). The fluid takes it as whole fluid steps (fluid.stepper.FluidSolver.step), each no
+larger than its stable step, the last ones shortened evenly so the interval ends on a step. After every outer step
+the watchdog checks the state, so a run that goes wrong stops within one outer step with a diagnosis and nothing
+non-finite ever leaves the simulator. Phases a scene does not have are None and cost nothing: no arrays, lists or
+passes.
 """
 import math
 import time as _time
@@ -24,7 +25,7 @@ from .solid.gradient_integration import gradient_strain_energy
 from .solid.fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .solid.implicit_pressure import deviatoric_wave_speed
 from .solid.stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params, mirror_clamp_velocities,
-                            solid_acceleration, solid_leapfrog)
+                            solid_acceleration, solid_drivers)
 from .numerics.jit_cache import start_parallel_runtime
 from .numerics.kernels import SUPPORT_RADIUS_IN_H
 from .scenes.built import check_layout
@@ -510,11 +511,12 @@ class Simulation:
 
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
         wk, state = self.solid_work, SolidArrays.of(self.solid)
+        leapfrog = solid_drivers(self.solid_params)[0]
         done, force = 0, False
         capped = int(wk.pressure_stats[3])
         while done < n:
             # the list's arrays and the pair cache are replaced by a rebuild or refit: taken anew each call
-            k = solid_leapfrog(n - done, force, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period),
+            k = leapfrog(n - done, force, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period),
                                self.solid_params, wk.buffers(), ext_acc, self.clamp_mirror)
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)

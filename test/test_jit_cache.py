@@ -21,7 +21,21 @@ def test_empty_cache_is_cold(tmp_path):
 def test_unreadable_cache_says_unknown(monkeypatch):
     class NoCache:
         pass
-    monkeypatch.setattr(jit_cache, "_entry_kernels", lambda phases: [NoCache()])
+    monkeypatch.setattr(jit_cache, "_entry_kernels", lambda phases, fitted_solid=True: [NoCache()])
     assert jit_cache.kernels_cached(("solid",)) is None
-    monkeypatch.setattr(jit_cache, "_entry_kernels", lambda phases: [])
+    monkeypatch.setattr(jit_cache, "_entry_kernels", lambda phases, fitted_solid=True: [])
     assert jit_cache.kernels_cached(()) is True
+
+
+def test_a_scene_checks_its_own_solid_driver(monkeypatch):
+    """Each solid scheme compiles only its own driver (solid.stepper.solid_drivers): the cold-start check asks for the
+    scene's, the quadratic fit's for the default scheme and Gray's SPH driver for gray2001, none without a solid."""
+    from sph_fsi_core.scene import load_scene
+    from sph_fsi_core.solid.stepper import fitted_leapfrog, sph_leapfrog
+    asked = []
+    monkeypatch.setattr(jit_cache, "kernels_cached", lambda phases, fitted_solid=True: asked.append(
+        jit_cache._entry_kernels(phases, fitted_solid)[0] if "solid" in phases else None))
+    jit_cache.scene_kernels_cached(load_scene("elastic_gate"))
+    jit_cache.scene_kernels_cached(load_scene("elastic_gate", ["solid.scheme=gray2001"]))
+    jit_cache.scene_kernels_cached(load_scene("dam_break"))
+    assert asked == [fitted_leapfrog, sph_leapfrog, None]

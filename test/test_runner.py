@@ -186,7 +186,7 @@ def test_cold_cache_says_compiling_and_keeps_it_out_of_the_rate(tmp_path, monkey
     build and first step took, and starts its progress (rate, ETA) after that step."""
     import sph_fsi.runner as runner_module
     from sph_fsi_core.numerics.jit_cache import COMPILING_LINE
-    monkeypatch.setattr(runner_module, "kernels_cached", lambda phases: False)
+    monkeypatch.setattr(runner_module, "scene_kernels_cached", lambda spec: False)
     settings = dict(node_defaults(), publish_period=PERIOD, out_dir=str(tmp_path / "run"))
     out, log = FakeOut(), Log()
     r = Runner(load_scene("cantilever", SMALL), settings, out, log)

@@ -13,12 +13,13 @@ COMPILING_LINE = ("compiling the simulator's kernels (Numba; the first run after
                   "a few minutes here, later runs start at once)")
 
 
-def _entry_kernels(phases):
-    """The kernels every run of a scene with these phases calls, one per phase (the rest compile alongside)."""
+def _entry_kernels(phases, fitted_solid=True):
+    """The kernels every run of a scene with these phases calls, one per phase (the rest compile alongside); the
+    solid's is its scheme's driver (fitted_solid: solid.velocity_gradient = quadratic)."""
     kernels = []
     if "solid" in phases:
-        from ..solid.stepper import solid_leapfrog
-        kernels.append(solid_leapfrog)
+        from ..solid.stepper import fitted_leapfrog, sph_leapfrog
+        kernels.append(fitted_leapfrog if fitted_solid else sph_leapfrog)
     if "fluid" in phases:
         from ..fluid.stepper import correction_loop
         kernels.append(correction_loop)
@@ -28,11 +29,12 @@ def _entry_kernels(phases):
     return kernels
 
 
-def kernels_cached(phases):
-    """True if each entry kernel for `phases` has compiled code in the cache, False if one has none, None if the
-    cache cannot be read (caching off, or Numba's internals changed)."""
+def kernels_cached(phases, fitted_solid=True):
+    """True if each entry kernel for `phases` (and the solid's scheme: fitted_solid, as _entry_kernels) has compiled
+    code in the cache, False if one has none, None if the cache cannot be read (caching off, or Numba's internals
+    changed)."""
     try:
-        for kernel in _entry_kernels(phases):
+        for kernel in _entry_kernels(phases, fitted_solid):
             cache = kernel._cache
             if not cache._cache_file._load_index():
                 return False
@@ -41,13 +43,18 @@ def kernels_cached(phases):
         return None
 
 
+
+def scene_kernels_cached(spec):
+    """kernels_cached for a scene (scene.SceneSpec): its phases and its solid's scheme."""
+    return kernels_cached(spec.phases, "solid" in spec.phases and spec["solid.velocity_gradient"] == "quadratic")
+
 def start_parallel_runtime():
     """Start Numba's threading layer now, before any kernel runs.
 
-    A cached kernel compiled without parallel=True that calls a parallel=True one (solid_leapfrog and its passes)
-    is loaded from the cache with the threading layer's entry points still unset when it is the first compiled code
-    a process calls: it then jumps to address 0 (numba/numba#8578, #4807, open). A fresh build calls a parallel kernel
-    first and starts the layer on the way; a run restored from a checkpoint (checkpoint.py) calls solid_leapfrog
-    first, which crashed. Starting the layer is idempotent and takes microseconds once started."""
+    A cached kernel compiled without parallel=True that calls a parallel=True one (the solid's leapfrog drivers and
+    their passes) is loaded from the cache with the threading layer's entry points still unset when it is the first
+    compiled code a process calls: it then jumps to address 0 (numba/numba#8578, #4807, open). A fresh build calls a parallel kernel
+    first and starts the layer on the way; a run restored from a checkpoint (checkpoint.py) calls the solid's
+    leapfrog first, which crashed. Starting the layer is idempotent and takes microseconds once started."""
     from numba.np.ufunc import parallel
     parallel._launch_threads()

@@ -265,35 +265,9 @@ def fold_clamp_forces(acc, mass, body, clamp_mirror):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
-    """Eq. (5) (Satake et al.; Gray, Monaghan & Swift 2001) into state.acc (zero for clamp particles), refreshing
-    the pair cache at the current positions.
-
-    `state`: SolidArrays, `neighbours`: SolidNeighbours, `prm`: SolidParams, `work`: SolidBuffers; `ext_acc`
-    (N, 3) m/s^2 added to movable particles (the fluid's push), or (0, 3) for none; `clamp_mirror` (N,) int64,
-    the ghost clamp's mirror images (solid.clamp = mirrored), or empty.
-    """
-    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
-    pressure, acc, stress_gradient = state.pressure, state.acc, state.stress_gradient
-    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
-    sigma_over_rho2, art_stress, eig_work = work.sigma_over_rho2, work.art_stress, work.eig_work
-    w, f, vector_buf, kinv, blocks = work.w, work.f, work.vector_buf, work.kinv, work.blocks
-    mls_rows, mls_weights, force_rows = work.mls_rows, work.mls_weights, work.force_rows
-    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
-                 eig_work)
-    if prm.implicit_pressure:   # the pressure's force comes from the step's implicit solve
-        deviatoric_over_rho2(stress, rho, sigma_over_rho2)
-    body = np.array([prm.gx, prm.gy, prm.gz])
-    if prm.gradient_order == 2:
-        if prm.cell_moment > 0.0:
-            gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
-        momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index,
-                          prm.h, prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
-                          mls_weights, vector_buf, force_rows, blocks)
-    else:
-        momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
-                      prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, vector_buf,
-                      prm.gradient_order == 1, kinv, blocks)
+def _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror):
+    """After a momentum pass: a ghost clamp's forces folded onto the body, the clamp held (zero acceleration), and
+    the external push `ext_acc` (N, 3) added to movable particles ((0, 3): none)."""
     fold_clamp_forces(acc, mass, body, clamp_mirror)
     has_ext = ext_acc.shape[0] == acc.shape[0]
     for a in range(acc.shape[0]):
@@ -305,6 +279,58 @@ def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
             acc[a, 0] += ext_acc[a, 0]
             acc[a, 1] += ext_acc[a, 1]
             acc[a, 2] += ext_acc[a, 2]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
+    """Eq. (5) (Satake et al.; Gray, Monaghan & Swift 2001) into state.acc (zero for clamp particles) with the
+    quadratic fit's pair weights (solid.velocity_gradient = quadratic, solid/fitted_gradient.py), refreshing the pair
+    cache at the current positions.
+
+    `state`: SolidArrays, `neighbours`: SolidNeighbours, `prm`: SolidParams, `work`: SolidBuffers; `ext_acc`
+    (N, 3) m/s^2 added to movable particles (the fluid's push), or (0, 3) for none; `clamp_mirror` (N,) int64,
+    the ghost clamp's mirror images (solid.clamp = mirrored), or empty.
+    """
+    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
+    pressure, acc, stress_gradient = state.pressure, state.acc, state.stress_gradient
+    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
+    sigma_over_rho2, art_stress, eig_work = work.sigma_over_rho2, work.art_stress, work.eig_work
+    w, f, vector_buf, blocks = work.w, work.f, work.vector_buf, work.blocks
+    mls_rows, mls_weights, force_rows = work.mls_rows, work.mls_weights, work.force_rows
+    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
+                 eig_work)
+    if prm.implicit_pressure:   # the pressure's force comes from the step's implicit solve
+        deviatoric_over_rho2(stress, rho, sigma_over_rho2)
+    body = np.array([prm.gx, prm.gy, prm.gz])
+    if prm.cell_moment > 0.0:
+        gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
+    momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index,
+                      prm.h, prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
+                      mls_weights, vector_buf, force_rows, blocks)
+    _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
+    """Eq. (5) as fitted_acceleration, with Gray's SPH gradient (solid.velocity_gradient = sph, the paper's) or its
+    kernel-corrected form (linear): solid/gray2001.py."""
+    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
+    pressure, acc = state.pressure, state.acc
+    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
+    sigma_over_rho2, art_stress, eig_work = work.sigma_over_rho2, work.art_stress, work.eig_work
+    w, f, vector_buf, kinv, blocks = work.w, work.f, work.vector_buf, work.kinv, work.blocks
+    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
+                 eig_work)
+    body = np.array([prm.gx, prm.gy, prm.gz])
+    momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
+                  prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, vector_buf,
+                  prm.gradient_order == 1, kinv, blocks)
+    _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror)
+
+
+def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
+    """Eq. (5) into state.acc with the scheme's momentum pass (the driver of `solid_drivers`)."""
+    solid_drivers(prm)[1](state, neighbours, prm, work, ext_acc, clamp_mirror)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -325,12 +351,80 @@ def _max_norm(v):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror):
+def _skin_may_be_crossed(step, force_first, dt, pos, pos_at_build, vel, acc, prm):
+    """Whether the next step could carry a particle past half the list's skin (the caller returns for a rebuild);
+    never for the first step after a rebuild when `force_first`."""
+    # XSPH speed is at most (1 + 2 eps) times the largest neighbour speed; stop before the skin can be crossed.
+    reach = dt * (1.0 + 2.0 * prm.xsph_eps) * (_max_norm(vel) + 0.5 * dt * _max_norm(acc))
+    return (step > 0 or not force_first) and max_displacement(pos, pos_at_build) + reach > prm.half_skin
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _half_kick(dt, vel, acc, movable, clamp_mirror):
+    """v += dt / 2 a for movable particles; a ghost clamp's velocities follow their images."""
+    for a in range(vel.shape[0]):
+        if movable[a]:
+            for k in range(3):
+                vel[a, k] += 0.5 * dt * acc[a, k]
+    mirror_clamp_velocities(vel, clamp_mirror)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _advance_state(dt, state, work, prm, clamp_mirror):
+    """rho, S (and the stress gradient) by their rates (eq. (3)); r by vhat, a ghost's by its image's reversed."""
+    pos, rho, stress, stress_gradient, movable = state.pos, state.rho, state.stress, state.stress_gradient, state.movable
+    vhat, drho, dstress, dstress_gradient = work.vhat, work.drho, work.dstress, work.dstress_gradient
+    ghost_clamp = clamp_mirror.shape[0] > 0
+    for a in range(pos.shape[0]):
+        if movable[a] or not ghost_clamp:
+            rho[a] += dt * drho[a]
+            for k in range(6):
+                stress[a, k] += dt * dstress[a, k]
+            if prm.cell_moment > 0.0:
+                for k in range(3):
+                    for c in range(6):
+                        stress_gradient[a, k, c] += dt * dstress_gradient[a, k, c]
+        if movable[a]:
+            for k in range(3):
+                pos[a, k] += dt * vhat[a, k]
+        elif ghost_clamp and clamp_mirror[a] >= 0:
+            # the ghost's displacement is its image's, reversed, as its velocity is
+            for k in range(3):
+                pos[a, k] -= dt * vhat[clamp_mirror[a], k]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _fit_refresh_due(dt, prm, work):
+    """After a step: whether the quadratic fit's rows are due to be remade (some neighbourhood turned or strained by
+    prm.fit_refresh_turn since they were made); with solid.fit_refresh = rotate, turns the rows that are due to be
+    turned (solid/fit_rotation.py) and asks for a remake only past prm.fit_refresh_strain."""
+    grad_v, turn = work.grad_v, work.turn
+    if prm.fit_refresh_turn > 0.0 and prm.rotate_fit:
+        strained, turned = follow_spin(grad_v, dt, work.fit_rotation, work.fit_deformation, turn, work.spin)
+        if strained > prm.fit_refresh_strain:
+            return True
+        if turned > prm.fit_refresh_turn:
+            rotate_fit_rows(work.fit_rows0, work.fit_rotation, work.spin, prm.fit_refresh_turn, work.mls_rows)
+    elif prm.fit_refresh_turn > 0.0:
+        worst = 0.0
+        for a in range(grad_v.shape[0]):
+            g = grad_v[a]
+            turn[a] += dt * math.sqrt(g[0, 0] ** 2 + g[0, 1] ** 2 + g[0, 2] ** 2 + g[1, 0] ** 2 + g[1, 1] ** 2
+                                      + g[1, 2] ** 2 + g[2, 0] ** 2 + g[2, 1] ** 2 + g[2, 2] ** 2)
+            worst = max(worst, turn[a])
+        if worst > prm.fit_refresh_turn:
+            return True
+    return False
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror):
     """Advance up to `n_steps` leapfrog steps of the module docstring (Satake et al. eqs. (3)-(5), the solid of
-    Gray, Monaghan & Swift 2001); returns the number done (fewer: the neighbour list needs a rebuild).
+    Gray, Monaghan & Swift 2001) with the quadratic fit's velocity gradient (solid.velocity_gradient = quadratic);
+    returns the number done (fewer: the neighbour list needs a rebuild, or the fit's rows a remake).
 
     `state`: SolidArrays, advanced in place; `neighbours`: SolidNeighbours; `prm`: SolidParams; `work`:
-    SolidBuffers; `ext_acc`, `clamp_mirror`: as solid_acceleration's. `force_first`: take the first step even if
+    SolidBuffers; `ext_acc`, `clamp_mirror`: as fitted_acceleration's. `force_first`: take the first step even if
     the skin test fails (used right after a rebuild, when a particle faster than half the skin per step would
     otherwise stall the run; the watchdog's speed limit catches those). Also returns early, with
     work.fit_refresh[0] = 1, once some particle's neighbourhood has turned or strained by prm.fit_refresh_turn
@@ -340,83 +434,67 @@ def solid_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_a
     pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
     acc, stress_gradient = state.acc, state.stress_gradient
     start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
-    pos_at_build = neighbours.targets_at_build
     vhat, volume, grad_v, drho, dstress = work.vhat, work.volume, work.grad_v, work.drho, work.dstress
-    w, f, buf, scalar_buf, kinv = work.w, work.f, work.buf, work.scalar_buf, work.kinv
-    mls_rows, mls_weights, turn, fit_refresh = work.mls_rows, work.mls_weights, work.turn, work.fit_refresh
+    w, buf, scalar_buf = work.w, work.buf, work.scalar_buf
+    mls_rows, mls_weights = work.mls_rows, work.mls_weights
     hessian, dstress_gradient, hessian_moments = work.hessian, work.dstress_gradient, work.hessian_moments
-    n = pos.shape[0]
-    ghost_clamp = clamp_mirror.shape[0] > 0
     for step in range(n_steps):
-        # XSPH speed is at most (1 + 2 eps) times the largest neighbour speed; stop before the skin can be crossed.
-        reach = dt * (1.0 + 2.0 * prm.xsph_eps) * (_max_norm(vel) + 0.5 * dt * _max_norm(acc))
-        if (step > 0 or not force_first) and max_displacement(pos, pos_at_build) + reach > prm.half_skin:
+        if _skin_may_be_crossed(step, force_first, dt, pos, neighbours.targets_at_build, vel, acc, prm):
             return step
-        for a in range(n):
-            if movable[a]:
-                for k in range(3):
-                    vel[a, k] += 0.5 * dt * acc[a, k]
-        mirror_clamp_velocities(vel, clamp_mirror)
-        if prm.gradient_order != 2 or prm.cell_moment > 0.0 or prm.implicit_pressure:
+        _half_kick(dt, vel, acc, movable, clamp_mirror)
+        if prm.cell_moment > 0.0 or prm.implicit_pressure:
             particle_volumes(mass, rho, volume)     # rho is the step's start's until the update below
         if prm.implicit_pressure:
             implicit_pressure_step(dt, vel, rho, volume, state.pressure, mass, movable, clamp_mirror, prm.c0 * prm.c0,
                                    start, index, mls_weights, prm.pressure_tolerance, prm.pressure_max_iterations,
                                    work.pressure_scalars, work.pressure_vectors, work.pressure_force, buf, scalar_buf,
                                    work.pressure_stats)
-        if prm.gradient_order == 2:
-            xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v,
-                                           buf)
-        else:
-            xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps,
-                                       vhat, grad_v, buf, prm.gradient_order == 1, kinv)
+        xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v, buf)
+        # the fitted gradient's own divergence, so pressure and deviatoric stress see one strain rate
+        velocity_divergence_rate(rho, grad_v, drho)
+        jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
+        if prm.cell_moment > 0.0:
+            velocity_hessian(pos, period, crossing, volume, vel, start, index, prm.h, mls_rows, w, hessian,
+                             hessian_moments)
+            stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
+        _advance_state(dt, state, work, prm, clamp_mirror)
+        fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
+        _half_kick(dt, vel, acc, movable, clamp_mirror)
+        if _fit_refresh_due(dt, prm, work):
+            work.fit_refresh[0] = 1
+            return step + 1
+    return n_steps
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def sph_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror):
+    """fitted_leapfrog's steps with Gray's SPH velocity gradient (solid.velocity_gradient = sph, the paper's) or its
+    kernel-corrected form (linear): solid/gray2001.py. Returns the number of steps done."""
+    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
+    acc = state.acc
+    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
+    vhat, volume, grad_v, drho, dstress = work.vhat, work.volume, work.grad_v, work.drho, work.dstress
+    w, f, buf, scalar_buf, kinv = work.w, work.f, work.buf, work.scalar_buf, work.kinv
+    for step in range(n_steps):
+        if _skin_may_be_crossed(step, force_first, dt, pos, neighbours.targets_at_build, vel, acc, prm):
+            return step
+        _half_kick(dt, vel, acc, movable, clamp_mirror)
+        particle_volumes(mass, rho, volume)     # rho is the step's start's until the update below
+        xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps,
+                                   vhat, grad_v, buf, prm.gradient_order == 1, kinv)
         if prm.gradient_order == 0:
             continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, drho, scalar_buf)
         else:
             # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
             velocity_divergence_rate(rho, grad_v, drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
-        if prm.cell_moment > 0.0:
-            velocity_hessian(pos, period, crossing, volume, vel, start, index, prm.h, mls_rows, w, hessian,
-                             hessian_moments)
-            stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
-        for a in range(n):
-            if movable[a] or not ghost_clamp:
-                rho[a] += dt * drho[a]
-                for k in range(6):
-                    stress[a, k] += dt * dstress[a, k]
-                if prm.cell_moment > 0.0:
-                    for k in range(3):
-                        for c in range(6):
-                            stress_gradient[a, k, c] += dt * dstress_gradient[a, k, c]
-            if movable[a]:
-                for k in range(3):
-                    pos[a, k] += dt * vhat[a, k]
-            elif ghost_clamp and clamp_mirror[a] >= 0:
-                # the ghost's displacement is its image's, reversed, as its velocity is
-                for k in range(3):
-                    pos[a, k] -= dt * vhat[clamp_mirror[a], k]
-        solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
-        for a in range(n):
-            if movable[a]:
-                for k in range(3):
-                    vel[a, k] += 0.5 * dt * acc[a, k]
-        mirror_clamp_velocities(vel, clamp_mirror)
-        if prm.fit_refresh_turn > 0.0 and prm.rotate_fit:
-            strained, turned = follow_spin(grad_v, dt, work.fit_rotation, work.fit_deformation, turn, work.spin)
-            if strained > prm.fit_refresh_strain:
-                fit_refresh[0] = 1
-                return step + 1
-            if turned > prm.fit_refresh_turn:
-                rotate_fit_rows(work.fit_rows0, work.fit_rotation, work.spin, prm.fit_refresh_turn, mls_rows)
-        elif prm.fit_refresh_turn > 0.0:
-            worst = 0.0
-            for a in range(n):
-                g = grad_v[a]
-                turn[a] += dt * math.sqrt(g[0, 0] ** 2 + g[0, 1] ** 2 + g[0, 2] ** 2 + g[1, 0] ** 2 + g[1, 1] ** 2
-                                          + g[1, 2] ** 2 + g[2, 0] ** 2 + g[2, 1] ** 2 + g[2, 2] ** 2)
-                worst = max(worst, turn[a])
-            if worst > prm.fit_refresh_turn:
-                fit_refresh[0] = 1
-                return step + 1
+        _advance_state(dt, state, work, prm, clamp_mirror)
+        sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
+        _half_kick(dt, vel, acc, movable, clamp_mirror)
     return n_steps
+
+
+def solid_drivers(prm):
+    """(leapfrog, acceleration) of the scheme in prm: each compiles only its own passes, so a run compiles what its
+    scheme uses (Gray's scheme leaves the quadratic fit out, the fit leaves Gray's passes out)."""
+    return (fitted_leapfrog, fitted_acceleration) if prm.gradient_order == 2 else (sph_leapfrog, sph_acceleration)
