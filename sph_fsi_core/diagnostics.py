@@ -66,6 +66,19 @@ class Watchdog:
                    f"stable fluid step {dt:.3g} s below fluid.min_time_step = "
                    f"{self.sim.spec['fluid.min_time_step']:g} s (largest speed {speed.max():.4g} m/s)", "fluid")
 
+    def solid_speed_before_substeps(self):
+        """Called before the solid's sub-steps are planned: a solid particle faster than watchdog.max_speed stops the
+        run there. The solid's stable step falls as cfl h / (c + |v|max), so a diverging solid would otherwise take
+        ever more sub-steps per outer step and never finish one for check() to see (Antoci's gate at solid.cfl =
+        0.35 ran on for 13 minutes in one outer step)."""
+        s = self.sim.solid
+        speed = np.sqrt((s.vel ** 2).sum(axis=1))
+        limit = self.sim.spec["watchdog.max_speed"]
+        bad = _where(speed > limit)
+        if len(bad):
+            self._trip("speed", bad, f"speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = {limit:g} m/s "
+                                     f"before the solid's sub-steps (their stable step falls with the speed)")
+
     def check(self):
         if self.sim.fluid is not None:
             self.check_fluid()

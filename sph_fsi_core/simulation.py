@@ -454,6 +454,7 @@ class Simulation:
         """Advance one outer step; raises Diverged (state left as found at the check) if the watchdog trips."""
         duration = self.outer_step_duration()
         if self.solid is not None and self.coupling is None:   # coupled: sub-stepped inside each fluid step
+            self.watchdog.solid_speed_before_substeps()
             dt_max = self._solid_dt()
             n = max(1, math.ceil(duration / dt_max * (1.0 - 1e-12)))
             dt = duration / n
@@ -535,6 +536,7 @@ class Simulation:
     def _advance_coupled_solid(self, fluid_dt):
         """Satake et al. sec. 2.3: the fluid's push from the step just taken, held over the solid's sub-steps."""
         ext = self.coupling.push(fluid_dt)
+        self.watchdog.solid_speed_before_substeps()
         n, warning = self.coupling.substeps(fluid_dt, self.stable_solid_dt())
         if warning:
             self.warnings.append(f"t = {self.time:.6g} s: {warning}")

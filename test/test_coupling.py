@@ -144,3 +144,20 @@ def test_one_coupled_step_moves_both_phases_and_keeps_water_out_of_the_gate():
     assert not inside.any()
     row = sim.sample()
     assert {"coupling_force_x", "tip_dx", "tip_dz", "strain_energy", "solid_substeps"} <= set(row)
+
+
+@pytest.mark.parametrize("scene,overrides", [("cantilever", [("numerics.spacing", 0.002)]), ("elastic_gate", COARSE)])
+def test_a_runaway_solid_stops_before_its_sub_steps(scene, overrides):
+    """The solid's stable step falls as cfl h / (c + |v|max): a solid particle above watchdog.max_speed stops the run
+    when its sub-steps are planned (Diverged naming the check and the particle), before any sub-step, instead of
+    sub-stepping ever finer inside an outer step the end-of-step watchdog never reaches (Antoci's gate at cfl 0.35
+    ran 13 minutes in one outer step). Alone (the cantilever) and inside the first fluid step (the gate)."""
+    from sph_fsi_core.diagnostics import Diverged
+    sim = Simulation(load_scene(scene, overrides))
+    moving = int(np.flatnonzero(sim.solid.movable)[5])
+    sim.solid.vel[moving] = [0.0, 0.0, 1.5 * sim.spec["watchdog.max_speed"]]
+    with pytest.raises(Diverged) as caught:
+        sim.step()
+    assert caught.value.check == "speed" and caught.value.particles[0] == moving
+    assert f"solid particle {moving}" in str(caught.value) and "before the solid's sub-steps" in str(caught.value)
+    assert sim.solid_steps == 0
