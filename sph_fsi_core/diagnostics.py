@@ -76,6 +76,7 @@ class Watchdog:
         limit = self.sim.spec["watchdog.max_speed"]
         bad = _where(speed > limit)
         if len(bad):
+            bad = bad[np.argsort(-speed[bad], kind="stable")]    # the fastest first: where it ran away
             self._trip("speed", bad, f"speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = {limit:g} m/s "
                                      f"before the solid's sub-steps (their stable step falls with the speed)")
 
