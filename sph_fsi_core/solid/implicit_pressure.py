@@ -43,7 +43,7 @@ STEPS, ITERATIONS, MOST, CAPPED = range(4)
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _unknown(a, movable, ghost_clamp):
-    """Whether particle a's pressure is solved for: its density advances (solid.stepper.solid_leapfrog's rule)."""
+    """Whether particle a's pressure is solved for: its density advances (solid.stepper._advance_state's rule)."""
     return movable[a] or not ghost_clamp
 
 
