@@ -518,7 +518,7 @@ class Simulation:
         while done < n:
             # the list's arrays and the pair cache are replaced by a rebuild or refit: taken anew each call
             k = leapfrog(n - done, force, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period),
-                               self.solid_params, wk.buffers(), ext_acc, self.clamp_mirror)
+                         self.solid_params, wk.buffers(), ext_acc, self.clamp_mirror)
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid(pair_weights=not (self.solid_params.implicit_pressure

@@ -43,18 +43,18 @@ def kernels_cached(phases, fitted_solid=True):
         return None
 
 
-
 def scene_kernels_cached(spec):
     """kernels_cached for a scene (scene.SceneSpec): its phases and its solid's scheme."""
     return kernels_cached(spec.phases, "solid" in spec.phases and spec["solid.velocity_gradient"] == "quadratic")
+
 
 def start_parallel_runtime():
     """Start Numba's threading layer now, before any kernel runs.
 
     A cached kernel compiled without parallel=True that calls a parallel=True one (the solid's leapfrog drivers and
     their passes) is loaded from the cache with the threading layer's entry points still unset when it is the first
-    compiled code a process calls: it then jumps to address 0 (numba/numba#8578, #4807, open). A fresh build calls a parallel kernel
-    first and starts the layer on the way; a run restored from a checkpoint (checkpoint.py) calls the solid's
-    leapfrog first, which crashed. Starting the layer is idempotent and takes microseconds once started."""
+    compiled code a process calls: it then jumps to address 0 (numba/numba#8578, #4807, open). A fresh build calls a
+    parallel kernel first and starts the layer on the way; a run restored from a checkpoint (checkpoint.py) calls the
+    solid's leapfrog first, which crashed. Starting the layer is idempotent and takes microseconds once started."""
     from numba.np.ufunc import parallel
     parallel._launch_threads()

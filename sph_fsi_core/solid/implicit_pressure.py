@@ -151,8 +151,8 @@ def _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index,
             sy += buf[c, a, 1]
             sz += buf[c, a, 2]
             sq += buf[c, a, 3]
-        diag[a] = volume[a] * _compliance(a, rho, c0_squared) + dt * dt * volume[a] * volume[a] * ((sx * sx + sy * sy + sz * sz) / mass[a]
-                                                                          + sq)
+        diag[a] = (volume[a] * _compliance(a, rho, c0_squared)
+                   + dt * dt * volume[a] * volume[a] * ((sx * sx + sy * sy + sz * sz) / mass[a] + sq))
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)

@@ -372,7 +372,8 @@ def _half_kick(dt, vel, acc, movable, clamp_mirror):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _advance_state(dt, state, work, prm, clamp_mirror):
     """rho, S (and the stress gradient) by their rates (eq. (3)); r by vhat, a ghost's by its image's reversed."""
-    pos, rho, stress, stress_gradient, movable = state.pos, state.rho, state.stress, state.stress_gradient, state.movable
+    pos, rho, stress, movable = state.pos, state.rho, state.stress, state.movable
+    stress_gradient = state.stress_gradient
     vhat, drho, dstress, dstress_gradient = work.vhat, work.drho, work.dstress, work.dstress_gradient
     ghost_clamp = clamp_mirror.shape[0] > 0
     for a in range(pos.shape[0]):
