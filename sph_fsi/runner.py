@@ -325,7 +325,7 @@ class Runner:
             if scene is not None:
                 desired = load_scene(scene or None)
                 self.settings["scene"] = scene
-            self._build(desired)
+            self._build(desired, show_parameters=True)
         except SceneError as exc:
             with self._cv:
                 self._last_error = f"reset refused: {exc}"
@@ -339,11 +339,11 @@ class Runner:
             self._last_error = ""
         del old_run, old_sim
         return_freed_memory()
-        # every reset: the node's parameters show the rebuilt scene's values (a new scene's keys, or the detailed
-        # keys a changed solid.scheme expanded to)
-        self.out.scene_changed(desired)
 
-    def _build(self, spec, restored=None):
+    def _build(self, spec, restored=None, show_parameters=False):
+        """Build the run for `spec` and publish its first frame. show_parameters (a reset): first set the node's
+        parameters to the rebuilt scene's values (a new scene's keys, or the detailed keys a changed solid.scheme
+        expanded to), so that whoever sees the new run's first frame reads its parameters."""
         started = time.monotonic()
         cold = scene_kernels_cached(spec) is False
         if cold:
@@ -369,6 +369,8 @@ class Runner:
         self.progress = Progress(run.sim)
         self._progress_logged = time.monotonic()
         self._compiling_since = started if cold else None   # until the first outer step is done
+        if show_parameters:
+            self.out.scene_changed(spec)
         self.out.sync_topics(run.sim, self.settings["qos"])
         self.out.publish_walls(run.sim, self.settings["frame_id"])
         self._publish_frame()
