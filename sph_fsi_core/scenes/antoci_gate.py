@@ -44,6 +44,35 @@ def compare_with_experiment(t, sim, t_exp, y_exp):
             "rms_over_exp_peak": rms / float(y_exp[k]), "points": int(use.sum())}
 
 
+# The explicit and implicit solid pressures follow one path to within 3 % but the explicit one rings 1-2 mm on the
+# peak over ~10 ms (docs/validation/OPEN.md 1.2): the peak of the curve averaged over this window compares motions.
+PEAK_SMOOTHING_S = 0.010
+
+
+def window_mean(t, y, width):
+    """At each sample time t_i, the mean of the samples with |t_j - t_i| <= width / 2 (fewer at the series' ends)."""
+    t, y = np.asarray(t, float), np.asarray(y, float)
+    total = np.concatenate([[0.0], np.cumsum(y)])
+    lo = np.searchsorted(t, t - 0.5 * width - 1e-12, side="left")
+    hi = np.searchsorted(t, t + 0.5 * width + 1e-12, side="right")
+    return (total[hi] - total[lo]) / (hi - lo)
+
+
+def load_against_level(series, values, when):
+    """The water's push on the gate against the hydrostatic load of the water left behind it, at time `when`
+    (both averaged over PEAK_SMOOTHING_S): the level is the column's, H0 (1 - water past the gate), spread over the
+    reservoir's width; a ratio below 1 is the pressure the flow towards the opening takes off the gate."""
+    t = series["time"]
+    level = gate.water_surface_z(values) * (1.0 - np.asarray(series["water_past_gate"], float))
+    push = (1.0 if values["geometry.mirror"] else -1.0) * np.asarray(series["coupling_force_x"], float)
+    k = int(np.argmin(np.abs(t - when)))
+    load = float(window_mean(t, push, PEAK_SMOOTHING_S)[k])
+    hydrostatic = float(window_mean(t, gate.hydrostatic_gate_load(level, values), PEAK_SMOOTHING_S)[k])
+    return {"water_level_at_x_peak_m": float(level[k]), "water_load_at_x_peak_n": load,
+            "water_load_hydrostatic_at_x_peak_n": hydrostatic, "water_load_over_hydrostatic_at_x_peak":
+            load / hydrostatic if hydrostatic > 0.0 else None}
+
+
 def evaluate(series, values):
     """Free-end x and z displacement against Antoci et al.'s measurements over 0-0.4 s: peaks, their times, RMS.
     error: RMS(x) over the measured x peak (the issue's goal: <= 10 %; peak within 5 %)."""
@@ -53,6 +82,13 @@ def evaluate(series, values):
         t_exp, y_exp = antoci_gate_tip(comp)
         for k, v in compare_with_experiment(t, series[col], t_exp, y_exp).items():
             out[f"tip_{comp}_{k}"] = v
+    smooth = window_mean(t, series["tip_dx"], PEAK_SMOOTHING_S)
+    window = t <= antoci_gate_tip("x")[0][-1] + 0.04
+    i = int(np.argmax(smooth[window]))
+    out["tip_x_peak_smoothed_m"], out["tip_x_peak_smoothed_time_s"] = float(smooth[window][i]), float(t[window][i])
+    out["peak_smoothing_s"] = PEAK_SMOOTHING_S
+    if "water_past_gate" in series and "coupling_force_x" in series:
+        out.update(load_against_level(series, values, t[window][i]))
     out["error_metric"] = ("RMS of the free end's x displacement against Antoci et al. 2007 at the measured times "
                            "(reference_data/antoci2007_exp_gate_tip_x.csv), over the measured peak")
     err = out["tip_x_rms_over_exp_peak"]

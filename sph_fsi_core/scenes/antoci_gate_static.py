@@ -52,11 +52,7 @@ def evaluate(series, values):
     gate standing on the floor (exact at rest)."""
     g = abs(values["scene.gravity"][2])
     out = gate.evaluate_static(series, values, values["fluid.density"], g, settled_fraction=SETTLED_FRACTION)
-    geometry = gate.effective_geometry(values)
-    length, width = geometry["gate_free_length_m"], geometry["span_m"]
-    height, clearance = gate.water_surface_z(values), geometry["gate_clearance_m"]
-    top = min(height, clearance + length)
-    exact = values["fluid.density"] * g * width * (height * (top - clearance) - 0.5 * (top ** 2 - clearance ** 2))
+    exact = float(gate.hydrostatic_gate_load(gate.water_surface_z(values), values))
     t = series["time"]
     settled = t >= t[-1] * (1.0 - SETTLED_FRACTION)
     push = 1.0 if values["geometry.mirror"] else -1.0

@@ -112,7 +112,8 @@ def fluid_cases():
 
 
 def gate_cases():
-    """The coupled gate (the paper's, at 2 mm, with the load-carrying 'pressure' coupling) under the same extremes.
+    """The coupled gate (the paper's, at 2 mm, with the load-carrying 'pressure' coupling) under the same extremes, and
+    Antoci's gate with a solid step above its limit.
 
     A fixed 0.04 s: the fluid sets the time scale here (the water reaches the gate's free end and pushes it), not
     the gate's own period; the solid sub-steps follow the solid's sound speed, so steel costs ~50x rubber.
@@ -133,6 +134,13 @@ def gate_cases():
     cases.append(Case("gate with no gap", "elastic_gate", {**base, "geometry.gate_clearance": 0.0}, "stable",
                       end_time=0.04, ci=True,
                       why="the gate stands on the floor: no flow under it, the whole column leans on the plate"))
+    if "antoci_gate" in BUILDERS:
+        cases.append(Case("Antoci's gate, solid.cfl 0.6 (a runaway solid)", "antoci_gate",
+                          {"numerics.spacing": 0.005 / 3, "solid.cfl": 0.6}, "diverged", end_time=0.05,
+                          why="a solid step above its stable limit (the scheme's cfl is 0.25; 0.35 is marginal here: "
+                              "docs/validation/OPEN.md 5): the solid blows up within the first outer steps and the "
+                              "watchdog stops it with a diagnosis; a slower runaway, whose stable step falls as its "
+                              "speed grows, is stopped before its sub-steps (test/test_coupling.py)"))
     return cases
 
 
