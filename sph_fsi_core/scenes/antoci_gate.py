@@ -82,13 +82,11 @@ def evaluate(series, values):
         t_exp, y_exp = antoci_gate_tip(comp)
         for k, v in compare_with_experiment(t, series[col], t_exp, y_exp).items():
             out[f"tip_{comp}_{k}"] = v
-    smooth = window_mean(t, series["tip_dx"], PEAK_SMOOTHING_S)
-    window = t <= antoci_gate_tip("x")[0][-1] + 0.04
-    i = int(np.argmax(smooth[window]))
-    out["tip_x_peak_smoothed_m"], out["tip_x_peak_smoothed_time_s"] = float(smooth[window][i]), float(t[window][i])
+    smoothed = compare_with_experiment(t, window_mean(t, series["tip_dx"], PEAK_SMOOTHING_S), *antoci_gate_tip("x"))
+    out["tip_x_peak_smoothed_m"], out["tip_x_peak_smoothed_time_s"] = smoothed["peak_m"], smoothed["peak_time_s"]
     out["peak_smoothing_s"] = PEAK_SMOOTHING_S
     if "water_past_gate" in series and "coupling_force_x" in series:
-        out.update(load_against_level(series, values, t[window][i]))
+        out.update(load_against_level(series, values, smoothed["peak_time_s"]))
     out["error_metric"] = ("RMS of the free end's x displacement against Antoci et al. 2007 at the measured times "
                            "(reference_data/antoci2007_exp_gate_tip_x.csv), over the measured peak")
     err = out["tip_x_rms_over_exp_peak"]

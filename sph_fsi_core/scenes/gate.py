@@ -245,15 +245,14 @@ def water_surface_z(values):
 
 def hydrostatic_gate_load(level, values):
     """The x force [N] of water at rest up to z = `level` on the wet face of the straight gate's free length (from
-    its clearance up to the clamp), rho_f g W (H (top - c) - (top^2 - c^2) / 2) with top = min(H, c + L); exact for
+    its clearance up to the clamp), rho_f g W (H (top - c) - (top^2 - c^2) / 2) with top = H clipped to [c, c + L]; exact for
     the gate at rest, and the load of the current level for a moving one."""
     geometry = effective_geometry(values)
     length, width = geometry["gate_free_length_m"], geometry["span_m"]
     clearance = geometry["gate_clearance_m"]
     g = abs(values["scene.gravity"][2])
-    top = np.minimum(level, clearance + length)
-    wet = np.maximum(top - clearance, 0.0)
-    return values["fluid.density"] * g * width * (level * wet - 0.5 * (top ** 2 - clearance ** 2) * (wet > 0.0))
+    top = np.clip(level, clearance, clearance + length)     # a level below the gate wets none of it
+    return values["fluid.density"] * g * width * (level * (top - clearance) - 0.5 * (top ** 2 - clearance ** 2))
 
 
 def static_tip_reference(values, water_density, gravity):
