@@ -150,7 +150,8 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
 def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power():
     """Pair forces are equal and opposite (sum m a = 0), and their power equals minus the stress power
     sum_a V_a sigma_a : L_a of the same gradient: the discrete system stores exactly the work it receives."""
-    from sph_fsi_core.solid.fitted_gradient import MOMENTUM_BLOCK_COLUMNS, momentum_rate_mls, xsph_velocity_and_mls_gradient
+    from sph_fsi_core.solid.fitted_gradient import (MOMENTUM_BLOCK_COLUMNS, momentum_rate_mls, pair_variant,
+                                                    xsph_velocity_and_mls_gradient)
     pos, dp, h = _beam_cloud(jitter=0.05, seed=3)
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
@@ -162,7 +163,7 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     momentum_rate_mls(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel,
                       sigma / rho[:, None] ** 2, np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0,
                       np.zeros(3), rows, acc, w, f, refreshed, np.zeros((2, n, 18)), np.zeros((0, 3, 9)),
-                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS), pair_variant(False, 0))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)

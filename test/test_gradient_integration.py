@@ -11,7 +11,8 @@ from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.gradient_integration import gradient_force_rows, gradient_strain_energy, velocity_hessian
 from sph_fsi_core.numerics.pair_blocks import block_scratch
-from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, MOMENTUM_BLOCK_COLUMNS, N_BASIS, mls_fit_rows, momentum_rate_mls
+from sph_fsi_core.solid.fitted_gradient import (MOMENT_COUNT, MOMENTUM_BLOCK_COLUMNS, N_BASIS, mls_fit_rows,
+                                                momentum_rate_mls, pair_variant)
 from sph_fsi_core.numerics.tensors import SYM_INDEX
 
 
@@ -71,7 +72,7 @@ def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_po
     momentum_rate_mls(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, np.zeros((n, 6)),
                       np.zeros((n, 6)), nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w,
                       np.zeros(nl.pairs), np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), force_rows,
-                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS), pair_variant(True, 0))
     force = mass[:, None] * acc
     assert np.abs(force.sum(axis=0)).max() < 1e-12 * np.abs(force).sum()
     hessian = _hessian(pos, h, mass, rho, nl, rows, w, vel)
@@ -85,6 +86,20 @@ def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_po
                 dl[:, k, i, j] = hessian[:, i, SYM_INDEX[j, k]]
     power = (mass / rho * cell_moment * np.einsum("nkij,nkij->n", full, dl)).sum()
     assert abs((force * vel).sum() + power) < 1e-10 * abs(power)
+
+
+def test_momentum_pass_refuses_a_pair_variant_that_does_not_match_its_force_rows():
+    """The block kernel's loop is chosen by pair_variant's type: a variant without the gradient integration and
+    force rows that carry it would leave the gradient force out of the block and read stale columns; refused."""
+    pos, h, mass, rho, nl, rows, w = _jittered_bar(seed=9)
+    n = len(pos)
+    args = (pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, np.zeros((n, 3)), np.zeros((n, 6)),
+            np.zeros((n, 6)), nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, np.zeros((n, 3)), w,
+            np.zeros(nl.pairs), np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), np.zeros((n, 3, 9)),
+            block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+    assert pair_variant(True, 0) == () and pair_variant(True, 4) == (0,) and pair_variant(False, 3) == (0,) * 5
+    with pytest.raises(ValueError, match="pair variant"):
+        momentum_rate_mls(*args, pair_variant(False, 0))
 
 
 def test_gradient_energy_of_a_bent_lattice_beam_makes_up_the_missing_second_moment():

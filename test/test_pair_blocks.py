@@ -18,7 +18,7 @@ from sph_fsi_core.solid.gradient_integration import gradient_force_rows
 from sph_fsi_core.solid.gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
 from sph_fsi_core.schema import MAX_ART_EXPONENT
 from sph_fsi_core.solid.gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
-from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls
+from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls, pair_variant
 from sph_fsi_core.solid.fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_COLUMNS
 from sph_fsi_core.numerics.tensors import SYM_INDEX
 
@@ -244,7 +244,8 @@ def test_quadratic_fit_momentum_pass_equals_its_pair_forces_summed_over_every_pa
     w, f, weights = np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((nl.pairs, 6))
     momentum_rate_mls(pos, PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start,
                       nl.index, H, c0, alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), rows, acc, w, f, weights,
-                      np.zeros((CHUNKS, n, 18)), force_rows, block_scratch(CHUNKS, MLS_COLUMNS))
+                      np.zeros((CHUNKS, n, 18)), force_rows, block_scratch(CHUNKS, MLS_COLUMNS),
+                      pair_variant(gradient, exponent))
     d = _separations(pos, pos)                                            # r_a - r_b
     r, wk, fk = _kernel_pairs(d)
     inside = (r < 2 * H) & (r > 0.0)

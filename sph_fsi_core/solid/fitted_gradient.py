@@ -111,39 +111,37 @@ def _cholesky_solve_rows(m, rows, nb):
     return True
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_buf):
-    """R_a (N, R, 9): rows 0..R-1 of the inverse weighted moment matrix M_a (R = 3: the gradient; R = 9: and the
-    Hessian, solid/gradient_integration.py); order[a] = 2 (quadratic) or 1 (linear).
-
-    One pass over the half list into per-chunk moment sums `moment_buf` (chunks, N, 45), then one small
-    Cholesky solve per particle. Call after every neighbour-list build.
-    """
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _fit_moments_chunk(c, chunks, pos, period, mass, rho, start, index, h, moment_buf):
+    """mls_fit_rows' pair pass for chunk c of the half list's targets: its moment sums into moment_buf[c]."""
     inv_period = inverse_periods(period)
-    n = pos.shape[0]
-    chunks = moment_buf.shape[0]
     inv_h = 1.0 / h
-    for c in prange(chunks):
-        out = moment_buf[c]
-        out[:, :] = 0.0
-        p = np.empty(N_BASIS)
-        for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
-            va = mass[a] / rho[a]
-            for s in range(unsigned(start[a]), unsigned(start[a + 1])):
-                b = index[s]
-                ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
-                _basis(ux, uy, uz, p)
-                wa = mass[b] / rho[b] * wab
-                wb = va * wab
-                k = 0
-                for i in range(N_BASIS):
-                    for j in range(i, N_BASIS):
-                        # p(-u) p(-u)^T differs from p(u) p(u)^T by the sign of linear x quadratic entries
-                        pp = p[i] * p[j]
-                        out[a, k] += wa * pp
-                        out[b, k] += wb * (-pp if (i < 3) != (j < 3) else pp)
-                        k += 1
-    for a in prange(n):
+    out = moment_buf[c]
+    out[:, :] = 0.0
+    p = np.empty(N_BASIS)
+    for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
+        va = mass[a] / rho[a]
+        for s in range(unsigned(start[a]), unsigned(start[a + 1])):
+            b = index[s]
+            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
+            _basis(ux, uy, uz, p)
+            wa = mass[b] / rho[b] * wab
+            wb = va * wab
+            k = 0
+            for i in range(N_BASIS):
+                for j in range(i, N_BASIS):
+                    # p(-u) p(-u)^T differs from p(u) p(u)^T by the sign of linear x quadratic entries
+                    pp = p[i] * p[j]
+                    out[a, k] += wa * pp
+                    out[b, k] += wb * (-pp if (i < 3) != (j < 3) else pp)
+                    k += 1
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _fit_rows_range(first, last, rows, order, moment_buf):
+    """mls_fit_rows' solve for particles first..last-1: each one's moments summed over the chunks, then Cholesky."""
+    chunks = moment_buf.shape[0]
+    for a in range(first, last):
         m = np.empty((N_BASIS, N_BASIS))
         k = 0
         for i in range(N_BASIS):
@@ -166,6 +164,23 @@ def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_bu
             for r in range(rows.shape[1]):
                 for i in range(N_BASIS):
                     rows[a, r, i] = 0.0
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def mls_fit_rows(pos, period, mass, rho, start, index, h, rows, order, moment_buf):
+    """R_a (N, R, 9): rows 0..R-1 of the inverse weighted moment matrix M_a (R = 3: the gradient; R = 9: and the
+    Hessian, solid/gradient_integration.py); order[a] = 2 (quadratic) or 1 (linear).
+
+    One pass over the half list into per-chunk moment sums `moment_buf` (chunks, N, 45), then one small
+    Cholesky solve per particle. Call after every neighbour-list build. Each parallel loop's body is one call
+    to a serial function, its chunk as an int64 (docs/method.md, "Performance design": the compile).
+    """
+    n = pos.shape[0]
+    chunks = moment_buf.shape[0]
+    for c in prange(chunks):
+        _fit_moments_chunk(np.int64(c), chunks, pos, period, mass, rho, start, index, h, moment_buf)
+    for c in prange(chunks):
+        _fit_rows_range(n * c // chunks, n * (c + 1) // chunks, rows, order, moment_buf)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -347,51 +362,59 @@ def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, 
         block[(_F_GRAD_A + 2) * STRIDE + j] = s_ab * basis_dot(force_rows_a[2], ux, uy, uz)
 
 
+def pair_variant(gradient_integration, art_exponent):
+    """The momentum pass's setting as a type, for _mls_pair_block: a tuple of zeros whose length says whether the
+    strain-gradient integration is on (lengths 0-2) or off (3-5) and which artificial stress (none, Gray's n = 4,
+    another n). Numba compiles a function once per argument type, and the length of a tuple is part of its type,
+    so a run compiles the one loop its setting takes rather than all six (31.8 of a cold 211 s, 2026-12-04)."""
+    art = 0 if art_exponent == 0 else 1 if art_exponent == 4 else 2
+    return (0,) * ((0 if gradient_integration else 3) + art)
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _mls_pair_block(block, m, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2, sound_speed,
-                    alpha, beta, art_exponent, inv_w_dp, gradient_integration):
+                    alpha, beta, art_exponent, inv_w_dp, variant):
     """What particle a contributes to the pair terms of momentum_rate_mls, for the m pairs of a block: r^2, W_ab,
     F_ab, G_ab = (V_b W_ab / h) R_a p(u), a's stress part V_a sigma_a G_ab (_F_A), the viscosity and artificial
     stress part (_F_AV) and a's half of the stress gradient's force (_F_GRAD_A). b's parts need b's fit rows and
     are added per pair in the scatter loop.
 
-    One loop per setting (no artificial stress, Gray's n = 4, another n; with or without the gradient integration),
-    each with its options as constants: a branch inside a SIMD loop runs both sides on every pair."""
+    One loop per setting (`variant`, pair_variant: no artificial stress, Gray's n = 4, another n; with or without
+    the gradient integration), each with its options as constants: a branch inside a SIMD loop runs both sides on
+    every pair. The setting is the tuple's length, a constant of its type, so only its own loop is compiled."""
     sa = (sa[XX], sa[YY], sa[ZZ], sa[XY], sa[XZ], sa[YZ])
     ra = (ra[XX], ra[YY], ra[ZZ], ra[XY], ra[XZ], ra[YZ])
     rows_a = _rows_tuple(rows_a)
-    if gradient_integration:
-        if art_exponent == 0:
-            for j in range(m):
-                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                          sound_speed, alpha, beta, 0, inv_w_dp, True)
-        elif art_exponent == 4:
-            for j in range(m):
-                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                          sound_speed, alpha, beta, 4, inv_w_dp, True)
-        else:
-            for j in range(m):
-                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                          sound_speed, alpha, beta, art_exponent, inv_w_dp, True)
+    if len(variant) == 0:
+        for j in range(m):
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                      sound_speed, alpha, beta, 0, inv_w_dp, True)
+    elif len(variant) == 1:
+        for j in range(m):
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                      sound_speed, alpha, beta, 4, inv_w_dp, True)
+    elif len(variant) == 2:
+        for j in range(m):
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                      sound_speed, alpha, beta, art_exponent, inv_w_dp, True)
+    elif len(variant) == 3:
+        for j in range(m):
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                      sound_speed, alpha, beta, 0, inv_w_dp, False)
+    elif len(variant) == 4:
+        for j in range(m):
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                      sound_speed, alpha, beta, 4, inv_w_dp, False)
     else:
-        if art_exponent == 0:
-            for j in range(m):
-                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                          sound_speed, alpha, beta, 0, inv_w_dp, False)
-        elif art_exponent == 4:
-            for j in range(m):
-                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                          sound_speed, alpha, beta, 4, inv_w_dp, False)
-        else:
-            for j in range(m):
-                _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                          sound_speed, alpha, beta, art_exponent, inv_w_dp, False)
+        for j in range(m):
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
+                      sound_speed, alpha, beta, art_exponent, inv_w_dp, False)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h,
                       sound_speed, alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf,
-                      force_rows, blocks):
+                      force_rows, blocks, variant):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
@@ -409,7 +432,8 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
     particle a's rows and stress runs in SIMD lanes (_mls_pair_block); b's weights G_ba, its stress part and its
     half of the gradient force, which need b's 27 fit numbers (27 more with the gradient integration), per pair in
     the scatter loop, where they are read in place. crossing: the rows that may need the minimum image
-    (neighbours.NeighbourList.crossing; the others take plain differences, the same bits).
+    (neighbours.NeighbourList.crossing; the others take plain differences, the same bits). `variant`:
+    pair_variant(gradient integration on, art_exponent), the setting as a type.
     """
     inv_period = inverse_periods(period)
     periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
@@ -419,6 +443,8 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
     sigma_k = 1.0 / (math.pi * h * h * h)
     n = vel.shape[0]
     gradient_integration = force_rows.shape[0] == n
+    if gradient_integration != (len(variant) < 3):
+        raise ValueError("momentum_rate_mls: the pair variant does not match force_rows (pair_variant)")
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
@@ -443,7 +469,7 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
                     minimum_image_block(block, _RX, m, period, inv_period)
                 _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a], force_rows[a] if
                                 gradient_integration else rows[a], mass[a], rho[a], ka, inv_h, sigma_k, h, eta2,
-                                sound_speed, alpha, beta, art_exponent, inv_w_dp, gradient_integration)
+                                sound_speed, alpha, beta, art_exponent, inv_w_dp, variant)
                 for j in range(m):
                     s = unsigned(lo + j)
                     if block[_R2 * STRIDE + j] >= support2:   # in the list's skin, outside the kernel: idle

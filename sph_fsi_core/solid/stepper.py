@@ -44,7 +44,8 @@ from .gradient_integration import gradient_force_rows, stress_gradient_rate, vel
 from .implicit_pressure import deviatoric_over_rho2, implicit_pressure_step
 from .fit_rotation import follow_spin, rotate_fit_rows
 from .fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_BLOCK_COLUMNS
-from .fitted_gradient import N_BASIS, momentum_rate_mls, velocity_divergence_rate, xsph_velocity_and_mls_gradient
+from .fitted_gradient import (N_BASIS, momentum_rate_mls, pair_variant, velocity_divergence_rate,
+                              xsph_velocity_and_mls_gradient)
 
 # solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
 # (docs/method.md, "Strain-gradient nodal integration": with rows kept from one list build to the next, 46 % of the paper's beam's energy
@@ -79,6 +80,7 @@ class SolidParams(NamedTuple):
     fit_refresh_strain: float   # with it: remake the rows once some neighbourhood's Green strain since passes this
     pressure_tolerance: float       # its conjugate gradients' relative residual
     pressure_max_iterations: int    # and their cap per step
+    pair_variant: tuple             # the quadratic fit's momentum pass setting as a type (fitted_gradient.pair_variant)
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
@@ -94,7 +96,9 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
                        implicit_pressure=pressure == "implicit", rotate_fit=fit_refresh == "rotate",
                        fit_refresh_strain=fit_refresh_strain,
                        pressure_tolerance=pressure_tolerance,
-                       pressure_max_iterations=int(pressure_max_iterations))
+                       pressure_max_iterations=int(pressure_max_iterations),
+                       pair_variant=pair_variant(nodal_integration == "gradient",
+                                                 int(art_exponent) if art_eps > 0.0 else 0))
 
 
 class SolidArrays(NamedTuple):
@@ -306,7 +310,7 @@ def fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
         gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
     momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index,
                       prm.h, prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
-                      mls_weights, vector_buf, force_rows, blocks)
+                      mls_weights, vector_buf, force_rows, blocks, prm.pair_variant)
     _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror)
 
 

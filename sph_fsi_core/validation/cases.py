@@ -269,6 +269,15 @@ def _solid_static_rungs():
 # correction iterations per step grow as dt^2 (docs/method.md), 160-200 at the automatic 5 ms in this 2 m column.
 HYDROSTATIC_PLATE_SCALED_E = 67.5e9 / 20.0
 HYDROSTATIC_PLATE_LAYERS = (4, 6, 8, 10)
+# The small plate of test/validation/test_hydrostatic_plate_quick.py (span 0.2 m, 0.02 m thick, E = 0.1 GPa, under
+# 0.1 m of water; nondimensional load q L^4 / (D t) = 1.07 against the benchmark's 0.51 and the scaled plate's 10.2),
+# with the default scheme as it is: a coupled ladder to 10 particles through that settles (the scaled plate does not
+# at 6 through: docs/validation/OPEN.md, 1.0), 6 breathing periods of its column (0.04 s each), judged on the last
+# half.
+SMALL_PLATE = {"geometry.span": 0.2, "geometry.thickness": 0.02, "solid.young_modulus": 1.0e8,
+               "geometry.water_height": 0.1, "geometry.wall_height": 0.11, "fluid.time_step": 1.0e-3}
+SMALL_PLATE_SOLID = ("geometry.span", "geometry.thickness", "solid.young_modulus")
+SMALL_PLATE_PRESSURE = 1000.0 * 9.81 * 0.1   # rho_f g H of its column (whole layers at every rung's spacing)
 
 
 def _hydrostatic_plate_rungs():
@@ -285,6 +294,17 @@ def _hydrostatic_plate_rungs():
             rungs.append(Rung("hydrostatic_plate", "benchmark_t_over_dp_4", "hydrostatic_plate",
                               {"numerics.spacing": thickness / 4, **common}, end_time=0.3,
                               note="4 particles through the plate, the benchmark's E = 67.5 GPa"))
+    for layers in HYDROSTATIC_PLATE_LAYERS:
+        dp = SMALL_PLATE["geometry.thickness"] / layers
+        rungs.append(Rung("hydrostatic_plate", f"small_t_over_dp_{layers}", "hydrostatic_plate",
+                          {"numerics.spacing": dp, **SMALL_PLATE}, end_time=0.24, quick=layers == 4, bound=0.08,
+                          note=f"{layers} particles through a small plate (0.2 m x 0.02 m, E = 0.1 GPa) under 0.1 m "
+                               f"of water; the default scheme as it is"))
+        # the same plate under the water's exact pressure rho_f g H (981 Pa): coupled against it is the load transfer
+        rungs.append(Rung("hydrostatic_plate", f"small_loaded_t_over_dp_{layers}", "clamped_plate",
+                          {"numerics.spacing": dp, **{k: v for k, v in SMALL_PLATE.items() if k in SMALL_PLATE_SOLID},
+                           "geometry.load_pressure": SMALL_PLATE_PRESSURE}, end_time=0.06,
+                          note=f"{layers} particles through the small plate under rho_f g H = 981 Pa, no water"))
     return rungs
 
 
