@@ -207,7 +207,9 @@ def test_two_layer_beam_keeps_the_linear_fit_as_it_bends_and_the_fit_is_remade()
     sim = Simulation(load_scene("cantilever", ["numerics.spacing=0.002", "output.snapshot_interval=0"]))
     order = sim.solid_work.mls_order.copy()
     moving = sim.solid.movable
-    assert (order[moving] == 1).sum() == 108 and (order[moving] == 2).sum() == 12
+    # every moving particle linear (the root's 12 had quadratic fits while the mirrored clamp kept the fixed clamp's
+    # margin above and below the root: scenes/cantilever.py)
+    assert (order[moving] == 1).sum() == 120
     while sim.time < 0.02:
         sim.step()
         assert (sim.solid_work.mls_order == order).all()

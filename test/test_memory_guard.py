@@ -41,8 +41,8 @@ def test_a_scene_beyond_the_memory_is_refused_before_building(monkeypatch):
     with pytest.raises(SceneError) as info:
         load_scene("cantilever", ["numerics.spacing=1e-5"])
     message = str(info.value)
-    assert "numerics.spacing = 1e-05 m" in message and "960,984,000 particles" in message
-    particles, need = memory_guard.estimate({"solid": 960_984_000})
+    assert "numerics.spacing = 1e-05 m" in message and "960,960,000 particles" in message
+    particles, need = memory_guard.estimate({"solid": 960_960_000})
     assert f"about {need / 2 ** 30:,.1f} GiB" in message and "GiB of memory is available" in message
     assert need / 2 ** 30 > 4_000
 
@@ -60,10 +60,10 @@ def test_the_estimate_follows_the_available_memory(monkeypatch):
 
 
 def test_max_particles_overrides_the_estimate(monkeypatch):
-    monkeypatch.setenv(memory_guard.MAX_PARTICLES_ENV, "1295")
-    with pytest.raises(SceneError, match=r"1,296 particles \(solid 1,296\), above the limit"):
+    monkeypatch.setenv(memory_guard.MAX_PARTICLES_ENV, "1055")    # the beam's 960 and the mirrored clamp's 96
+    with pytest.raises(SceneError, match=r"1,056 particles \(solid 1,056\), above the limit"):
         load_scene("cantilever")
-    monkeypatch.setenv(memory_guard.MAX_PARTICLES_ENV, "1296")
+    monkeypatch.setenv(memory_guard.MAX_PARTICLES_ENV, "1056")
     load_scene("cantilever")
     monkeypatch.setenv(memory_guard.MAX_PARTICLES_ENV, "many")
     with pytest.raises(SceneError, match="SPH_FSI_MAX_PARTICLES = 'many': not a particle count"):

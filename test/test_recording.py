@@ -1,6 +1,6 @@
 """Recordings from the command line (`sph-fsi run --mcap/--rrd`), read back by independent tools.
 
-One short cantilever run (coarse: 2 mm spacing, 120 moving + 144 clamp particles, 0.01 s, a frame every 1 ms:
+One short cantilever run (coarse: 2 mm spacing, 120 moving + 24 clamp particles, 0.01 s, a frame every 1 ms:
 11 frames) is recorded to MCAP and .rrd by a real subprocess. The MCAP is read with three readers that share no
 code with the writer or with each other: mcap-ros2-support's decoder, rosbags (AnyReader, Jazzy typestore) and
 Rerun's MCAP loader (`rerun mcap convert`, then rerun.chunk.RrdReader). Each must see the same messages per
@@ -29,7 +29,7 @@ RERUN = str(Path(sys.prefix) / "bin" / "rerun")
 SMALL = ["--set", "numerics.spacing=0.002", "--set", "geometry.length=0.04"]
 END, INTERVAL = 0.01, 0.001
 FRAMES = 11                                  # t = 0, 0.001, ..., 0.01
-MOVING, CLAMP = 120, 144                     # the cantilever builder's counts at 2 mm spacing
+MOVING, CLAMP = 120, 24                      # the cantilever builder's counts at 2 mm spacing
 NS = "/sph_fsi"
 TOPICS = {f"{NS}/particles": "sensor_msgs/msg/PointCloud2", f"{NS}/walls": "sensor_msgs/msg/PointCloud2",
           f"{NS}/tip_displacement": "geometry_msgs/msg/Vector3Stamped", f"{NS}/strain_energy": "std_msgs/msg/Float64",

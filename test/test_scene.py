@@ -46,9 +46,14 @@ def test_cantilever_build():
     spec = load_scene("cantilever")
     built = cantilever.build(spec.values)
     s = built.solid
-    assert s.count == 1296
     assert s.moving_count == 960
-    assert int((~s.movable).sum()) == 336
+    # the default scheme's mirrored clamp: the root's odd image, 4 x 4 x 6 ghosts, every one with its image in the beam
+    assert s.count == 960 + 96 and int((~s.movable).sum()) == 96
+    assert (built.clamp_mirror[~s.movable] >= 0).all()
+    # the fixed clamp (Gray's scheme, the paper's): its wall 4 layers deep, 5 above and below: 4 x 14 x 6 = 336
+    fixed = cantilever.build(load_scene("cantilever", ["solid.scheme=gray2001"]).values).solid
+    assert int((~fixed.movable).sum()) == 336
+    assert np.ptp(fixed.pos[~fixed.movable][:, 2]) == pytest.approx(13 * 1e-3)
     dp = 1e-3
     # lattice: beam x in (0, L), clamp x < 0, centred in y and z
     beam = s.pos[s.movable]
@@ -56,7 +61,7 @@ def test_cantilever_build():
     assert beam[:, 0].min() == pytest.approx(0.5 * dp) and beam[:, 0].max() == pytest.approx(39.5 * dp)
     assert clamp[:, 0].max() == pytest.approx(-0.5 * dp) and clamp[:, 0].min() == pytest.approx(-3.5 * dp)
     assert abs(beam[:, 1].mean()) < 1e-15 and abs(beam[:, 2].mean()) < 1e-15
-    assert np.ptp(clamp[:, 2]) == pytest.approx(13 * dp)
+    assert np.ptp(clamp[:, 2]) == pytest.approx(3 * dp)
     # mass and density
     assert np.allclose(s.mass, 1000.0 * dp ** 3, rtol=1e-14)
     assert np.all(s.rho == 1000.0) and np.all(s.stress == 0.0)
@@ -87,9 +92,11 @@ def test_cantilever_build():
 def test_cantilever_build_other_resolution():
     spec = load_scene("cantilever", ["numerics.spacing=0.0005", "geometry.length=0.01"])
     built = cantilever.build(spec.values)
-    # beam 20 x 12 x 8, clamp 4 x 12 x (8 + 10)
+    # beam 20 x 12 x 8, the mirrored clamp 4 x 12 x 8 (the fixed clamp's margin counts layers: 4 x 12 x (8 + 10))
     assert built.solid.moving_count == 20 * 12 * 8
-    assert built.solid.count == 20 * 12 * 8 + 4 * 12 * 18
+    assert built.solid.count == 20 * 12 * 8 + 4 * 12 * 8
+    fixed = cantilever.build({**spec.values, "solid.clamp": "fixed"}).solid
+    assert fixed.count == 20 * 12 * 8 + 4 * 12 * 18
     assert len(built.probes[0].indices) == 12 * 8
 
 
@@ -357,7 +364,7 @@ def test_time_step_above_stable_limit_is_refused():
     sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-5"]))
     shear_wave = (4.0 / 3.0 * 1.859e6 / (2.0 * 1.49) / 1000.0) ** 0.5
     assert sim.stable_solid_dt() == pytest.approx(0.25 * 1.3e-3 / (shear_wave + 0.01), rel=1e-4)
-    assert sim.solid.count == 4 * 24 + 336
+    assert sim.solid.count == 4 * 24 + 96   # the mirrored clamp's 4 x 4 x 6
 
 
 # ---- config/defaults.yaml ----------------------------------------------------------------------------------

@@ -16,6 +16,13 @@ the static answer; both only shorten the way to it.
 Probe 'midspan': the movable particles nearest mid-span and mid-thickness (two columns and two layers when the
 layer counts are even). Judged on its mean vertical displacement over the last 25 % of the run against the
 project's plane-strain FE value for the same plate and load (validation/fe_reference.py).
+
+`geometry.supports = clamped_free`: the same strip clamped at x = 0 only, a cantilever free at x = L (no clamp
+beyond it). Probe 'free_end': the last column's particles nearest mid-thickness (x = L - dp / 2), judged against
+FE at the same point. With the two supports on one plate the clamp and the free end can be told apart: a clamp
+that acts as if the strip were longer by delta moves the clamped-clamped mid-span by 8 delta / L and the
+cantilever's free end by 4 delta / L (beam theory; a rotational spring at the clamp, to first order), so a
+ladder over L / t separates what the clamp does from what the free end does (validation case clamp_effect).
 """
 import math
 
@@ -31,8 +38,8 @@ CONSERVATIVE = False     # the load does work
 # the benchmark's plate and water (hydrostatic_plate_fourey2017.csv)
 WATER_PRESSURE = 1000.0 * 9.81 * 2.0
 SETTLED_FRACTION = 0.25   # evaluate() averages over the last quarter of the run
-# first clamped-clamped bending mode: beta_1 L = 4.7300 (Euler-Bernoulli)
-CLAMPED_CLAMPED_BETA_L = 4.730040745
+# first bending mode, Euler-Bernoulli: beta_1 L = 4.7300 clamped-clamped, 1.8751 clamped-free
+FIRST_MODE_BETA_L = {"clamped_clamped": 4.730040745, "clamped_free": 1.875104069}
 
 GEOMETRY = [
     Param("geometry.span", 1.0, "m", "Plate span L along x, clamp face to clamp face", low=0.0, low_inclusive=False,
@@ -40,8 +47,10 @@ GEOMETRY = [
     Param("geometry.thickness", 0.05, "m", "Plate thickness t along z", low=0.0, low_inclusive=False, high=10.0),
     Param("geometry.span_layers", 0, "1", "Particle layers across the periodic slab (y; 0: the narrowest slab the "
           "neighbour lists allow, 2 (2h + skin))", kind="int", low=0, high=10000),
-    Param("geometry.clamp_layers", 4, "1", "Layers of fixed particles beyond each end (at least 2h)", kind="int",
-          low=1, high=40),
+    Param("geometry.clamp_layers", 4, "1", "Layers of fixed particles beyond each clamped end (at least 2h)",
+          kind="int", low=1, high=40),
+    Param("geometry.supports", "clamped_clamped", "", "Clamped at both ends, or at x = 0 only (a cantilever free "
+          "at x = L)", kind="str", choices=("clamped_clamped", "clamped_free")),
     Param("geometry.load_pressure", WATER_PRESSURE, "Pa", "Pressure on the plate's top face at x = 0 (pushing down; "
           "the benchmark: 2 m of water)", low=-1.0e9, high=1.0e9),
     Param("geometry.load_gradient", 0.0, "Pa/m", "Change of the pressure along x (a linear, hydrostatic-like load)",
@@ -90,11 +99,16 @@ def check(values):
 
 
 def first_mode_omega(values):
-    """omega_1 = (beta_1 L)^2 / L^2 sqrt(D / (rho t)) of a clamped-clamped plane-strain strip, rad/s."""
+    """omega_1 = (beta_1 L)^2 / L^2 sqrt(D / (rho t)) of the plane-strain strip on its supports, rad/s."""
     t, span = values["geometry.thickness"], values["geometry.span"]
     nu = values["solid.poisson_ratio"]
     rigidity = values["solid.young_modulus"] * t ** 3 / (12.0 * (1.0 - nu * nu))
-    return CLAMPED_CLAMPED_BETA_L ** 2 / span ** 2 * math.sqrt(rigidity / (values["solid.density"] * t))
+    beta_l = FIRST_MODE_BETA_L[values.get("geometry.supports", "clamped_clamped")]
+    return beta_l ** 2 / span ** 2 * math.sqrt(rigidity / (values["solid.density"] * t))
+
+
+def _free_end(values):
+    return values.get("geometry.supports", "clamped_clamped") == "clamped_free"
 
 
 def pressure_at(values, x):
@@ -104,14 +118,14 @@ def pressure_at(values, x):
 def particle_counts(values):
     """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
     c = layer_counts(values)
-    return {"solid": (c["nx"] + 2 * c["nc"]) * c["ny"] * c["nz"]}
+    return {"solid": (c["nx"] + (1 if _free_end(values) else 2) * c["nc"]) * c["ny"] * c["nz"]}
 
 
 def build(values):
     dp = values["numerics.spacing"]
     c = layer_counts(values)
     nx, nz, ny, nc = c["nx"], c["nz"], c["ny"], c["nc"]
-    x = (np.arange(-nc, nx + nc) + 0.5) * dp
+    x = (np.arange(-nc, nx + (0 if _free_end(values) else nc)) + 0.5) * dp
     y = (np.arange(ny) + 0.5) * dp
     z = (np.arange(nz) + 0.5) * dp
     pos = np.stack(np.meshgrid(x, y, z, indexing="ij"), axis=-1).reshape(-1, 3)
@@ -123,7 +137,10 @@ def build(values):
     load = np.zeros((len(pos), 3))
     load[top, 2] = -pressure_at(values, pos[top, 0]) * dp * dp     # N: the pressure on its dp x dp of surface
 
-    probes, mirror = midspan_probe_and_mirror(pos, movable, span, nz * dp, dp)
+    if _free_end(values):
+        probes, mirror = free_end_probe_and_mirror(pos, movable, span, nz * dp, dp)
+    else:
+        probes, mirror = midspan_probe_and_mirror(pos, movable, span, nz * dp, dp)
     margin = 0.5 * span + 10 * dp
     lo = np.array([-margin, -dp, -margin])
     hi = np.array([span + margin, (ny + 1) * dp, values["geometry.thickness"] + margin])
@@ -145,6 +162,15 @@ def midspan_probe_and_mirror(pos, movable, span, thickness, dp):
     return probes, mirror
 
 
+def free_end_probe_and_mirror(pos, movable, span, thickness, dp):
+    """A cantilever's 'free_end' probe (the last column's particles nearest mid-thickness, x = span - dp / 2) and
+    the mirrored clamp's map across x = 0."""
+    near_end = (np.abs(pos[:, 0] - (span - 0.5 * dp)) < 0.01 * dp) & (np.abs(pos[:, 2] - 0.5 * thickness) < 0.51 * dp)
+    end = np.flatnonzero(near_end & movable)
+    probes = [Probe("free_end", "solid", end, pos[end].mean(axis=0))]
+    return probes, clamp_mirror_across(pos, movable, 0, 0.0, dp)
+
+
 def block_means(x, blocks=3):
     """Means of `blocks` equal consecutive parts of x: their spread says how settled a mean over x is."""
     x = np.asarray(x)
@@ -152,7 +178,10 @@ def block_means(x, blocks=3):
 
 
 def evaluate(series, values, settled_fraction=SETTLED_FRACTION):
-    """Mid-span deflection, settled, against the plane-strain FE value (and the beam values beside it)."""
+    """Mid-span deflection, settled, against the plane-strain FE value (and the beam values beside it); the free
+    end's with geometry.supports = clamped_free (evaluate_free_end)."""
+    if _free_end(values):
+        return evaluate_free_end(series, values, settled_fraction)
     from ..validation.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
     t = series["time"]
     settled = t >= t[-1] * (1.0 - settled_fraction)
@@ -180,4 +209,43 @@ def evaluate(series, values, settled_fraction=SETTLED_FRACTION):
     error = (deflection - reference) / reference
     return {**out, "reference_midspan_deflection_m": reference,
             "reference": "plane-strain FE, biquadratic quadrilaterals, t / 8 (validation/fe_reference.py)",
+            "error_signed": error, "error": abs(error)}
+
+
+def evaluate_free_end(series, values, settled_fraction=SETTLED_FRACTION):
+    """A cantilever's free-end deflection (x = L - dp / 2, mid-thickness), settled, against plane-strain FE at the
+    same point; the beam value (Euler-Bernoulli, at x = L) beside it."""
+    from ..validation.fe_reference import cantilever_strip_fe_deflection
+    t = series["time"]
+    settled = t >= t[-1] * (1.0 - settled_fraction)
+    w = series["free_end_dz"][settled]
+    deflection = float(w.mean())
+    span, thickness, dp = values["geometry.span"], values["geometry.thickness"], values["numerics.spacing"]
+    e, nu, rho = values["solid.young_modulus"], values["solid.poisson_ratio"], values["solid.density"]
+    gz = values["scene.gravity"][2]
+    mean_load = pressure_at(values, 0.5 * span) - rho * gz * thickness
+    rigidity = e * thickness ** 3 / (12.0 * (1.0 - nu * nu))
+    out = {
+        "free_end_deflection_m": deflection,
+        "free_end_deflection_swing_m": float(w.max() - w.min()),
+        "free_end_deflection_blocks_m": block_means(w),
+        "settled_from_s": float(t[settled][0]),
+        "beam_theory_free_end_deflection_m": (-mean_load * span ** 4 / (8.0 * rigidity)
+                                              if values["geometry.load_gradient"] == 0.0 else None),
+        "error_metric": "relative error of the settled free-end deflection (x = L - dp / 2) against plane-strain FE",
+    }
+    # the probe's x must be a node of the FE mesh (a multiple of half its element): elements of dp / k <= t / 8
+    element = dp / max(1, math.ceil(8.0 * dp / thickness - 1e-9))
+    try:
+        fe = cantilever_strip_fe_deflection(span, thickness, e, nu, lambda x: pressure_at(values, x),
+                                            body_force_across=rho * gz, element_size=element,
+                                            probe_x=span - 0.5 * dp)
+    except ImportError as exc:    # scikit-fem and scipy are the validation's (requirements-dev.txt), not the core's
+        return {**out, "reference_free_end_deflection_m": None, "error_signed": None, "error": None,
+                "reference_note": str(exc)}
+    reference = -fe["tip_deflection_m"]
+    error = (deflection - reference) / reference
+    return {**out, "reference_free_end_deflection_m": reference,
+            "reference": f"plane-strain FE, biquadratic quadrilaterals of {element:g} m at x = L - dp / 2 "
+                         "(validation/fe_reference.py)",
             "error_signed": error, "error": abs(error)}

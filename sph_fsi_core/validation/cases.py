@@ -280,6 +280,48 @@ SMALL_PLATE_SOLID = ("geometry.span", "geometry.thickness", "solid.young_modulus
 SMALL_PLATE_PRESSURE = 1000.0 * 9.81 * 0.1   # rho_f g H of its column (whole layers at every rung's spacing)
 
 
+# Where the default scheme's end effect sits (docs/validation/OPEN.md, 6: the cantilever's error falls as H / L):
+# one plate, 4 particles through (t = 0.02 m, dp = 5 mm, E = 0.1 GPa, nu = 0.3: the small plate's), clamped at
+# both ends (no free end) and clamped at one (a cantilever), over L / t, each against plane-strain FE for itself.
+# A clamp acting as if the strip were longer by delta adds 8 delta / L to the first and 4 delta / L to the second
+# (scenes/clamped_plate.py); what the cantilever has beyond that is its free end's. The loads scale as (t / L)^4 so
+# every strip deflects as much relative to its thickness (0.5 % clamped at both ends, 2 % as a cantilever: linear).
+# The runs go 5 periods of the first mode: the load ramps in over 2 and the critical damping settles it.
+CLAMP_EFFECT_RATIOS = {"clamped_clamped": (5, 10, 15, 20, 30), "clamped_free": (5, 10, 15, 20)}
+CLAMP_EFFECT_PLATE = {"geometry.thickness": 0.02, "numerics.spacing": 0.005, "solid.young_modulus": 1.0e8}
+CLAMP_EFFECT_BEAM_RATIOS = (5, 10, 15, 20)
+CLAMP_EFFECT_LOAD = {"clamped_clamped": 1000.0 * 9.81 * 0.1, "clamped_free": 1000.0 * 9.81 * 0.01}   # Pa at L/t 10
+
+
+def _clamp_effect_rungs():
+    import math
+    from ..scenes.clamped_plate import FIRST_MODE_BETA_L
+    t, e, nu, rho = 0.02, 1.0e8, 0.3, 2700.0
+    rungs = []
+    for supports, ratios in CLAMP_EFFECT_RATIOS.items():
+        for ratio in ratios:
+            span = ratio * t
+            scale = (10.0 / ratio) ** 4
+            pressure = CLAMP_EFFECT_LOAD[supports] * scale
+            gravity = -9.81 * scale * CLAMP_EFFECT_LOAD[supports] / CLAMP_EFFECT_LOAD["clamped_clamped"]
+            omega = (FIRST_MODE_BETA_L[supports] / span) ** 2 * math.sqrt(e * t ** 2 / (12.0 * (1.0 - nu * nu) * rho))
+            rungs.append(Rung("clamp_effect", f"{supports}_L_over_t_{ratio}", "clamped_plate",
+                              {**CLAMP_EFFECT_PLATE, "geometry.span": span, "geometry.supports": supports,
+                               "geometry.load_pressure": pressure, "scene.gravity": (0.0, 0.0, gravity)},
+                              end_time=5.0 * 2.0 * math.pi / omega, quick=supports == "clamped_free" and ratio == 5,
+                              bound=0.1, note=f"L / t = {ratio}, 4 particles through, {supports}, the default scheme"))
+    # the same in 3D, static: the cantilever_shapes beam (4 x 6 mm, 4 particles through, nu = 0.3) under a linear
+    # dead load (alpha = 0.05), whose frequency error is a + b H / L (docs/validation/OPEN.md, 6); against 3D FE
+    # at the free end's particle layer (validation/end_effect.py)
+    for ratio in CLAMP_EFFECT_BEAM_RATIOS:
+        rungs.append(Rung("clamp_effect", f"beam3d_L_over_H_{ratio}", "cantilever_loaded",
+                          {"geometry.length": ratio * 0.004, "solid.poisson_ratio": 0.3,
+                           "geometry.load_parameter": 0.05}, end_time=0.25 * (ratio / 10.0) ** 2,
+                          note=f"L / H = {ratio}, the cantilever_shapes beam with nu = 0.3 under a linear dead load, "
+                               "the default scheme"))
+    return rungs
+
+
 def _hydrostatic_plate_rungs():
     rungs = []
     thickness = 0.05
@@ -386,6 +428,7 @@ def _solid_pressure_rungs():
             + [f"large_deflection/alpha_{a:g}" for a in LARGE_DEFLECTION_LOADS]
             + [f"solid_static/quadratic_gradient_mirrored_t_over_dp_{n}" for n in (4, 6)]
             + ["gate_static/loaded_gradient_mirrored_dp1.67mm", "hydrostatic_plate/scaled_t_over_dp_4",
+               "hydrostatic_plate/scaled_t_over_dp_6",
                "gate_default/elastic_gate_dp1mm", "gate_default/antoci_gate_dp1.67mm",
                "gate_default/antoci_gate_dp1.25mm"])
     rungs = [_twin(by_key[k]) for k in keys]
@@ -397,7 +440,7 @@ def _solid_pressure_rungs():
 
 def all_rungs():
     return (_cantilever_rungs() + _cantilever_shape_rungs() + _large_deflection_rungs() + _solid_static_rungs()
-            + _hydrostatic_plate_rungs() + _fluid_rungs() + _gate_rungs() + _gate_default_rungs()
+            + _clamp_effect_rungs() + _hydrostatic_plate_rungs() + _fluid_rungs() + _gate_rungs() + _gate_default_rungs()
             + _gate_static_rungs() + _solid_pressure_rungs())
 
 

@@ -84,6 +84,19 @@ def _assemble_uniform(skfem, np, full, intorder, forms):
     return tuple(matrices)
 
 
+# 3 x 3 x 3 Gauss points: exact for box elements (Q2 stiffness and mass integrands are of degree <= 4 in each
+# coordinate); skfem's default for Hex2 is 7 x 7 x 7, the same matrices at ~13x the cost.
+HEX_INTORDER = 4
+
+
+def _box_basis(skfem, np, extents, element_size):
+    """Vector Q2 hexahedra on the box [0, a] x [0, b] x [0, c], round(extent / element_size) (>= 1) per direction:
+    (basis, counts)."""
+    counts = tuple(max(1, int(round(extent / element_size))) for extent in extents)
+    mesh = skfem.MeshHex.init_tensor(*(np.linspace(0.0, extent, n + 1) for extent, n in zip(extents, counts)))
+    return skfem.Basis(mesh, skfem.ElementVector(skfem.ElementHex2()), intorder=HEX_INTORDER), counts
+
+
 def cantilever_fe_frequency(length, thickness, width, young_modulus, poisson_ratio, density,
                             element_size=1e-3, modes=6):
     """Lowest vertical (z) and sideways (y) bending frequencies (Hz) of a clamped-free 3D elastic beam.
@@ -98,21 +111,14 @@ def cantilever_fe_frequency(length, thickness, width, young_modulus, poisson_rat
     spla, skfem, dot, lame_parameters, linear_elasticity = _import_fe()
 
     t0 = time.perf_counter()
-    counts = tuple(max(1, int(round(extent / element_size))) for extent in (length, width, thickness))
-    mesh = skfem.MeshHex.init_tensor(np.linspace(0.0, length, counts[0] + 1),
-                                     np.linspace(0.0, width, counts[1] + 1),
-                                     np.linspace(0.0, thickness, counts[2] + 1))
-    element = skfem.ElementVector(skfem.ElementHex2())
-    # 3 x 3 x 3 Gauss points: exact for these box elements (Q2 stiffness and mass integrands are of degree
-    # <= 4 in each coordinate); skfem's default for Hex2 is 7 x 7 x 7, same matrices at ~13x the cost.
-    intorder = 4
+    basis, counts = _box_basis(skfem, np, (length, width, thickness), element_size)
+    intorder = HEX_INTORDER
 
     @skfem.BilinearForm
     def mass(u, v, _):
         return density * dot(u, v)
 
     elasticity = linear_elasticity(*lame_parameters(young_modulus, poisson_ratio))
-    basis = skfem.Basis(mesh, element, intorder=intorder)
     stiffness, mass_matrix = _assemble_uniform(skfem, np, basis, intorder, (elasticity, mass))
     clamped = basis.get_dofs(lambda p: p[0] <= 1e-9 * length).all()
     free = basis.complement_dofs(clamped)
@@ -240,7 +246,7 @@ def clamped_plate_beam_deflection(span, thickness, young_modulus, poisson_ratio,
     return w
 
 
-def _strip_static(length, thickness, young_modulus, poisson_ratio, face_pressure, body_force, clamp_both,
+def strip_static(length, thickness, young_modulus, poisson_ratio, face_pressure, body_force, clamp_both,
                   element_size):
     """Static plane-strain displacement of a strip [0, length] x [0, thickness] (x along it, z across) clamped on
     its x = 0 face (and its x = length face when `clamp_both`), under a pressure `face_pressure(x)` (Pa) on its
@@ -286,7 +292,7 @@ def _as_function(pressure):
     return pressure if callable(pressure) else (lambda x, value=float(pressure): value + 0.0 * x)
 
 
-def _displacement_at(u, basis, x, z):
+def displacement_at(u, basis, x, z):
     """(u_x, u_z) at the degree of freedom nearest (x, z)."""
     import numpy as np
     ux_dofs, uz_dofs = basis.split_indices()
@@ -308,16 +314,16 @@ def clamped_plate_fe_deflection(span, thickness, young_modulus, poisson_ratio, t
     vertical reaction at the clamps (N per m of width: equals the applied load), elements (nx, nz), dofs,
     solve_time_s.
     """
-    u, basis, stiffness, rhs, clamped, counts, seconds = _strip_static(
+    u, basis, stiffness, rhs, clamped, counts, seconds = strip_static(
         span, thickness, young_modulus, poisson_ratio, _as_function(top_pressure), (0.0, body_force_z), True,
         element_size)
     uz_dofs = basis.split_indices()[1]
     import numpy as np
     reaction = stiffness @ u - rhs
     return {
-        "midspan_deflection_m": _displacement_at(u, basis, 0.5 * span, 0.5 * thickness)[1],
-        "top_midspan_deflection_m": _displacement_at(u, basis, 0.5 * span, thickness)[1],
-        "bottom_midspan_deflection_m": _displacement_at(u, basis, 0.5 * span, 0.0)[1],
+        "midspan_deflection_m": displacement_at(u, basis, 0.5 * span, 0.5 * thickness)[1],
+        "top_midspan_deflection_m": displacement_at(u, basis, 0.5 * span, thickness)[1],
+        "bottom_midspan_deflection_m": displacement_at(u, basis, 0.5 * span, 0.0)[1],
         "clamp_reaction_z_n_per_m": float(reaction[np.intersect1d(clamped, uz_dofs)].sum()),
         "elements": counts,
         "dofs": int(basis.N),
@@ -326,25 +332,67 @@ def clamped_plate_fe_deflection(span, thickness, young_modulus, poisson_ratio, t
 
 
 def cantilever_strip_fe_deflection(length, thickness, young_modulus, poisson_ratio, face_pressure,
-                                   body_force_along=0.0, element_size=None, probe_x=None):
+                                   body_force_along=0.0, element_size=None, probe_x=None, body_force_across=0.0):
     """Static plane-strain deflection of a cantilever strip [0, length] x [0, thickness] clamped on its x = 0
     face and free at x = length, under a pressure `face_pressure` (Pa; a number or a function of the distance x
     from the clamp) on one face, pushing across the strip, and a body force `body_force_along` (N/m^3) along it
-    (a hanging gate's own weight). Same elements as clamped_plate_fe_deflection. Read at mid-thickness, at
-    x = `probe_x` from the clamp (default: the free end), which must be a node (a multiple of element_size / 2).
+    (a hanging gate's own weight) and `body_force_across` (N/m^3) across it, + along the pressed face's outward
+    normal (a horizontal strip pressed on its top: its own weight is -rho g). Same elements as
+    clamped_plate_fe_deflection. Read at mid-thickness, at x = `probe_x` from the clamp (default: the free end),
+    which must be a node (a multiple of element_size / 2).
     Returns a dict: tip_deflection_m (across the strip, along the pressure: positive, at probe_x), tip_axial_m
     (along the strip, + away from the clamp, at probe_x), free_end_deflection_m (at the free end, mid-thickness),
     probe_x_m, elements, dofs, solve_time_s."""
     import numpy as np
-    u, basis, _, _, _, counts, seconds = _strip_static(
-        length, thickness, young_modulus, poisson_ratio, _as_function(face_pressure), (body_force_along, 0.0), False,
-        element_size)
+    u, basis, _, _, _, counts, seconds = strip_static(
+        length, thickness, young_modulus, poisson_ratio, _as_function(face_pressure),
+        (body_force_along, body_force_across), False, element_size)
     x = length if probe_x is None else probe_x
     locs = basis.doflocs[:, basis.split_indices()[1]]
     if np.min(np.hypot(locs[0] - x, locs[1] - 0.5 * thickness)) > 1e-9 * length:
         raise ValueError(f"probe_x = {x:g} m at mid-thickness is not a node of the mesh; allowed: a multiple of "
                          f"element_size / 2")
-    ux, uz = _displacement_at(u, basis, x, 0.5 * thickness)
+    ux, uz = displacement_at(u, basis, x, 0.5 * thickness)
     return {"tip_deflection_m": -uz, "tip_axial_m": ux,
-            "free_end_deflection_m": -_displacement_at(u, basis, length, 0.5 * thickness)[1], "probe_x_m": x,
+            "free_end_deflection_m": -displacement_at(u, basis, length, 0.5 * thickness)[1], "probe_x_m": x,
             "elements": counts, "dofs": int(basis.N), "solve_time_s": seconds}
+
+
+def cantilever_fe_static_deflection(length, thickness, width, young_modulus, poisson_ratio, body_force_z, points,
+                                    element_size):
+    """Static 3D deflection of the clamped-free beam of cantilever_fe_frequency (the same elements and clamp: u = 0
+    on the x = 0 face) under a uniform body force `body_force_z` (N/m^3, a dead load like
+    scenes/cantilever_loaded.py's distributed one). The load and the beam are symmetric about y = width / 2, so
+    only the half y <= width / 2 is meshed, with u_y = 0 on the plane of symmetry (half the unknowns: a direct
+    solve of the long beams fits in memory). Returns u_z (m) at each of `points` ((n, 3) in [0, L] x [0, W] x
+    [0, H], which must be nodes of the mesh: multiples of element_size / 2; a point beyond the middle is read at
+    its mirror image) and their mean, with the mesh's counts, dofs and solve time."""
+    import numpy as np
+    spla, skfem, dot, lame_parameters, linear_elasticity = _import_fe()
+    t0 = time.perf_counter()
+    half = 0.5 * width
+    basis, counts = _box_basis(skfem, np, (length, half, thickness), element_size)
+    (stiffness,) = _assemble_uniform(skfem, np, basis, HEX_INTORDER,
+                                     (linear_elasticity(*lame_parameters(young_modulus, poisson_ratio)),))
+
+    @skfem.LinearForm
+    def body(v, _):
+        return body_force_z * v[2]
+
+    rhs = skfem.asm(body, basis)
+    clamped = basis.get_dofs(lambda p: p[0] <= 1e-9 * length).all()
+    ux_dofs, uy_dofs, uz_dofs = basis.split_indices()
+    on_middle = np.flatnonzero(np.abs(basis.doflocs[1, uy_dofs] - half) <= 1e-9 * width)
+    fixed = np.union1d(clamped, uy_dofs[on_middle])
+    u = skfem.solve(*skfem.condense(stiffness, rhs, D=fixed))
+    locs = basis.doflocs[:, uz_dofs]
+    values = []
+    for p in np.asarray(points, dtype=float):
+        q = np.array([p[0], min(p[1], width - p[1]), p[2]])
+        distance = np.sqrt(((locs - q[:, None]) ** 2).sum(axis=0))
+        nearest = int(np.argmin(distance))
+        if distance[nearest] > 1e-6 * length:
+            raise ValueError(f"point {p} is not a node of the mesh; allowed: multiples of element_size / 2")
+        values.append(float(u[uz_dofs[nearest]]))
+    return {"uz_m": values, "mean_uz_m": float(np.mean(values)), "elements": counts, "dofs": int(basis.N),
+            "solve_time_s": time.perf_counter() - t0}

@@ -38,10 +38,12 @@ def test_quick_cantilever_ladder_within_bounds(tmp_path):
 def test_quick_default_scheme_on_a_nu_03_beam_against_its_own_fe(tmp_path):
     """The default scheme (mirrored clamp) on a beam of another material, nu = 0.3 (L/H = 10, the paper's section):
     judged against the project's 3D FE for that shape and nu (reference_data/cantilever_fe3d_nondimensional.csv),
-    not beam theory. Measured -1.34 % (docs/validation/cantilever_shapes); the rung's bound is 2 %, soft side."""
+    not beam theory. Measured -0.79 % (docs/validation/cantilever_shapes; -1.34 % while the mirrored clamp kept the
+    fixed clamp's margin beside the root: docs/validation/clamp_effect); the bound is the verification issue's goal,
+    1 %, soft side."""
     assert validate(["cantilever_shapes"], quick=True, out_dir=tmp_path) == 0
     s = json.loads((tmp_path / "runs" / "cantilever_shapes" / "nu0.3_L_over_H_10" / "summary.json").read_text())
     assert s["settings"]["solid.clamp"] == "mirrored" and s["settings"]["solid.poisson_ratio"] == 0.3
     assert s["judged_against"] == "fe3d" and s["fe3d_source"] == "fe3d_extrapolated"
-    assert -0.02 < s["frequency_hz"] / s["reference_hz"] - 1.0 < 0.0
+    assert -0.01 < s["frequency_hz"] / s["reference_hz"] - 1.0 < 0.0
     assert s["euler_bernoulli_hz"] < s["reference_hz"] * 1.02     # a 3D beam at nu = 0.3 stays near beam theory

@@ -41,3 +41,22 @@ def test_deflection_is_linear_in_the_load():
     two = run("solid.scheme=gray2001", "scene.gravity=[0, 0, 0]", "geometry.load_pressure=2.0e4")
     assert two["midspan_deflection_m"] == pytest.approx(2.0 * one["midspan_deflection_m"], rel=2e-3)
     assert two["error_signed"] == pytest.approx(one["error_signed"], abs=2e-3)
+
+
+def test_cantilever_strip_has_one_clamp_and_settles_close_to_fe():
+    """geometry.supports = clamped_free (case clamp_effect's quick rung, L/t = 5, 4 particles through): clamp layers
+    behind x = 0 only, the probe on the free end's last column, settled within +1.9 % of plane-strain FE at the
+    same point (docs/validation/clamp_effect)."""
+    from sph_fsi_core.scenes import clamped_plate
+    from sph_fsi_core.validation.cases import all_rungs
+    rung = next(r for r in all_rungs() if r.key == "clamp_effect/clamped_free_L_over_t_5")
+    spec = load_scene("clamped_plate", list(rung.overrides.items()) + [("scene.end_time", rung.end_time)])
+    built = clamped_plate.build(spec.values)
+    pos, movable = built.solid.pos, built.solid.movable
+    span, dp = spec.values["geometry.span"], spec.values["numerics.spacing"]
+    assert pos[:, 0].max() == pytest.approx(span - 0.5 * dp) and (pos[~movable, 0] < 0.0).all()
+    assert (built.clamp_mirror[~movable] >= 0).all()            # every clamp particle mirrors one in the strip
+    assert built.probes[0].name == "free_end" and built.probes[0].reference_position[0] == pytest.approx(span - 0.5 * dp)
+    s = run_scene(spec, progress=False)
+    assert s["stable"] and s["free_end_deflection_swing_m"] < 1e-3 * abs(s["free_end_deflection_m"])
+    assert 0.0 < s["error_signed"] < 0.04
