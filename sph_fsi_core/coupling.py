@@ -230,14 +230,14 @@ class Coupling:
     """
 
     def __init__(self, solid, fluid, walls, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
-                 substeps=0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None):
+                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         self.solid, self.fluid = solid, fluid
         self.h = float(h)
         self.period = np.asarray(period, dtype=np.float64)
         self.rho0 = float(fluid_rho0)
-        self.configure(model, gamma, substeps)
+        self.configure(model, gamma, substeps, relaxation)
         self.offset = walls.count if walls is not None else 0
         self.volume = solid.mass / solid.rho                       # initial volumes m / rho0_s
         self.wall_mass = self.rho0 * self.volume * lattice_scale   # module docstring, item 1
@@ -247,6 +247,7 @@ class Coupling:
                                   mass=np.concatenate([wall_m, self.wall_mass]), rho0=self.rho0)
         self.solid_p = np.zeros(solid.count)
         self.acc = np.zeros((solid.count, 3))
+        self.previous_acc = None      # the push last held, for coupling.relaxation < 1
         self.force = np.zeros((solid.count, 3))
         self.gradient = np.zeros((solid.count, 3))
         skin = 0.1 * self.h if skin is None else float(skin)
@@ -265,10 +266,13 @@ class Coupling:
         self.last_substeps = 0
         self._forced_warned = False
 
-    def configure(self, model, gamma, substeps):
+    def configure(self, model, gamma, substeps, relaxation=1.0):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
+        if not 0.0 < relaxation <= 1.0:
+            raise ValueError(f"coupling.relaxation = {relaxation!r}; allowed: (0, 1]")
         self.model, self.gamma, self.forced_substeps = model, float(gamma), int(substeps)
+        self.relaxation = float(relaxation)
 
     @property
     def surface_count(self):
@@ -300,7 +304,22 @@ class Coupling:
             self.pressure_forces()
             self.acc[:] = self.force / s.mass[:, None]
             self.acc[~s.movable] = 0.0
+        self._relax_push()
         return self.acc
+
+    def _relax_push(self):
+        """coupling.relaxation: the push held is w a_new + (1 - w) a_held (the first one as it is). A staggered
+        push answers the solid's motion of the step before: under a fluid of added mass m_a a solid of mass m_s
+        alternates step to step by -m_a / m_s (the added-mass instability); relaxed, by (1 - w) - w m_a / m_s,
+        below 1 in size when w < 2 / (1 + m_a / m_s). A fixed point (a static load) is unchanged."""
+        w = self.relaxation
+        if w < 1.0:
+            if self.previous_acc is None or self.previous_acc.shape != self.acc.shape:
+                self.previous_acc = self.acc.copy()
+            else:
+                self.acc *= w
+                self.acc += (1.0 - w) * self.previous_acc
+                self.previous_acc[:] = self.acc
 
     def pressure_forces(self):
         """'pressure' model: P_s and the forces on the solid particles (self.force, N) from the fluid's current P."""

@@ -269,6 +269,12 @@ COUPLING = [
     _p("coupling.substeps", 0, "1",
        "Solid sub-steps per fluid step (0: ceil(fluid dt / stable solid dt); a forced value below that is "
        "replaced by it with a warning); the paper: 200", kind="int", low=0, high=100000, rebuild=False),
+    _p("coupling.relaxation", 1.0, "1",
+       "The push held over the solid's sub-steps is this times the one from the fluid step just taken plus the rest "
+       "times the previous push (1: the paper's staggered push). Below 2 / (1 + m_added / m_solid) it damps the "
+       "step-to-step alternation of a light solid under deep water (the added-mass instability of a staggered "
+       "coupling); a static answer does not depend on it; it lags the load by about dt (1 - relaxation) / relaxation",
+       low=0.0, low_inclusive=False, high=1.0, rebuild=False),
     _p("coupling.surface_threshold", 0.4, "1",
        "A solid particle is a surface particle when |sum_b V_b grad W_ab| h exceeds this (0.59 at a flat "
        "face, 0.06 one layer in, 0 deeper)", low=0.0, low_inclusive=False, high=2.0),

@@ -156,7 +156,7 @@ class Simulation:
             self.coupling = Coupling(self.solid, self.fluid, walls, self.h, self.period,
                                      v["fluid.density"], lattice_density_scale(v["numerics.smoothing_ratio"]),
                                      model=v["coupling.model"], gamma=v["coupling.gamma"],
-                                     substeps=v["coupling.substeps"],
+                                     substeps=v["coupling.substeps"], relaxation=v["coupling.relaxation"],
                                      surface_threshold=v["coupling.surface_threshold"],
                                      skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
                                      box_hi=built.domain_hi)
@@ -410,7 +410,8 @@ class Simulation:
             self._apply_fluid_settings()
         if self.coupling is not None:
             v = self.spec.values
-            self.coupling.configure(v["coupling.model"], v["coupling.gamma"], v["coupling.substeps"])
+            self.coupling.configure(v["coupling.model"], v["coupling.gamma"], v["coupling.substeps"],
+                                    v["coupling.relaxation"])
         return deferred
 
     @property

@@ -163,3 +163,34 @@ def test_a_runaway_solid_stops_before_its_sub_steps(scene, overrides):
     assert caught.value.check == "speed" and caught.value.particles[0] == moving   # the fastest first
     assert f"solid particle {moving}" in str(caught.value) and "before the solid's sub-steps" in str(caught.value)
     assert sim.solid_steps == 0
+
+
+@pytest.mark.parametrize("ratio", [2.0, 9.0])
+def test_relaxed_push_damps_the_added_mass_alternation(gate_sim, ratio):
+    """coupling.relaxation on the staggered model it is for: a rigid solid of mass m_s whose push answers its own
+    acceleration of the step before through an added mass m_a (a_push = (F - m_a a_prev) / m_s, what an
+    incompressible fluid's projection gives a staggered scheme). Unrelaxed the deviation from the coupled answer
+    F / (m_s + m_a) alternates by -m_a / m_s per step; relaxed by w, by (1 - w) - w m_a / m_s: it converges for
+    w < 2 / (1 + m_a / m_s), and to that answer (a fixed point is not moved). Through the Coupling's own code."""
+    c = gate_sim.coupling
+    saved = (c.relaxation, c.previous_acc, c.acc.copy())
+    force, exact = 1.0, 1.0 / (1.0 + ratio)          # per unit m_s
+    try:
+        for w, converges in ((1.0, False), (0.9 * 2.0 / (1.0 + ratio), True), (1.0 / (1.0 + ratio), True),
+                             (1.1 * 2.0 / (1.0 + ratio), False)):
+            c.relaxation, c.previous_acc = w, None
+            held, deviations = 0.0, []
+            for _ in range(200):
+                c.acc[:] = force - ratio * held        # the fluid's answer to the held push of the step before
+                c._relax_push()
+                held = float(c.acc[0, 0])
+                deviations.append(held - exact)
+            expected = (1.0 - w) - w * ratio
+            if abs(expected) > 0.1:      # w = 1 / (1 + m_a / m_s) is exact in one step (the factor is 0)
+                assert deviations[20] / deviations[19] == pytest.approx(expected, rel=1e-6)
+            else:
+                assert abs(deviations[2]) < 1e-12
+            assert (abs(deviations[-1]) < 1e-9) == converges, (w, deviations[-1])
+    finally:
+        c.relaxation, c.previous_acc = saved[0], saved[1]
+        c.acc[:] = saved[2]

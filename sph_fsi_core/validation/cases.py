@@ -347,6 +347,28 @@ def _hydrostatic_plate_rungs():
                           {"numerics.spacing": dp, **{k: v for k, v in SMALL_PLATE.items() if k in SMALL_PLATE_SOLID},
                            "geometry.load_pressure": SMALL_PLATE_PRESSURE}, end_time=0.06,
                           note=f"{layers} particles through the small plate under rho_f g H = 981 Pa, no water"))
+    # The added-mass alternation of the staggered push (docs/validation/OPEN.md, 1.0): the small plate made light
+    # (rho_s 300: the water's added mass about 10x the plate's, against about 1x at 2700) alternates from fluid step
+    # to fluid step unrelaxed; coupling.relaxation below 2 / (1 + m_a / m_s) settles it. And the scaled benchmark
+    # plate (m_a / m_s about 2.4) at 6 through, which does not settle unrelaxed (solid_pressure's twin), relaxed.
+    light = {**SMALL_PLATE, "solid.density": 300.0}
+    for layers in (4, 6):
+        dp = SMALL_PLATE["geometry.thickness"] / layers
+        rungs.append(Rung("hydrostatic_plate", f"light_t_over_dp_{layers}", "hydrostatic_plate",
+                          {"numerics.spacing": dp, **light}, end_time=0.24,
+                          note=f"{layers} particles through the small plate at rho_s = 300 kg/m^3, the push unrelaxed"))
+    for layers in (4, 6):
+        rungs.append(Rung("hydrostatic_plate", f"light_relaxed_t_over_dp_{layers}", "hydrostatic_plate",
+                          {"numerics.spacing": SMALL_PLATE["geometry.thickness"] / layers, **light,
+                           "coupling.relaxation": 0.1}, end_time=0.24,
+                          note=f"{layers} particles through the small plate at rho_s = 300 kg/m^3, "
+                               f"coupling.relaxation = 0.1"))
+    for layers in HYDROSTATIC_PLATE_LAYERS:
+        rungs.append(Rung("hydrostatic_plate", f"scaled_relaxed_t_over_dp_{layers}", "hydrostatic_plate",
+                          {"numerics.spacing": thickness / layers, "solid.young_modulus": HYDROSTATIC_PLATE_SCALED_E,
+                           "fluid.time_step": 1.0e-3, "coupling.relaxation": 0.3}, end_time=0.3,
+                          note=f"{layers} particles through the plate, E = 3.375 GPa, the default scheme as it is, "
+                               f"coupling.relaxation = 0.3"))
     return rungs
 
 
@@ -377,6 +399,12 @@ def _gate_static_rungs():
                           {"numerics.spacing": dp, **EXPLICIT_PRESSURE}, end_time=1.0,
                           note=f"{through} particles through the gate, coupled, the default scheme "
                                f"(quadratic_gradient, mirrored clamp)"))
+    # the push relaxed below 2 / (1 + m_a / m_s) (m_a / m_s about 9 here; hydrostatic_plate's light_* rungs), at the
+    # scene's own spacing (its YAML's, 3 through) as the unrelaxed run above
+    rungs.append(Rung("gate_static", "coupled_gradient_mirrored_relaxed_dp1.67mm", "antoci_gate_static",
+                      {**EXPLICIT_PRESSURE, "coupling.relaxation": 0.15}, end_time=1.0,
+                      note="3 particles through the gate, coupled, the default scheme (quadratic_gradient, mirrored "
+                           "clamp), coupling.relaxation = 0.15"))
     return rungs
 
 
@@ -435,6 +463,15 @@ def _solid_pressure_rungs():
     rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_dp1mm", "antoci_gate", {"numerics.spacing": 0.001},
                       end_time=0.4, note="dp = 1 mm (5 particles through the gate); free end vs Antoci et al. 2007; "
                                          "the implicit pressure"))
+    # the push relaxed below 2 / (1 + m_a / m_s) (hydrostatic_plate's light_* rungs): does the added-mass alternation
+    # move Antoci's peak?
+    rungs.append(Rung("solid_pressure", "gate_default_elastic_gate_relaxed_dp1mm", "elastic_gate",
+                      {"numerics.spacing": 0.001, "coupling.relaxation": 0.25}, end_time=0.14,
+                      note="the paper's gate at its 1 mm, the implicit pressure, coupling.relaxation = 0.25"))
+    rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_relaxed_dp1.67mm", "antoci_gate",
+                      {"numerics.spacing": 0.005 / 3, "coupling.relaxation": 0.25}, end_time=0.4,
+                      note="dp = 5/3 mm (3 particles through the gate); free end vs Antoci et al. 2007; the implicit "
+                           "pressure, coupling.relaxation = 0.25"))
     return rungs
 
 
