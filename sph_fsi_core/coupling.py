@@ -247,7 +247,6 @@ class Coupling:
                                   mass=np.concatenate([wall_m, self.wall_mass]), rho0=self.rho0)
         self.solid_p = np.zeros(solid.count)
         self.acc = np.zeros((solid.count, 3))
-        self.previous_acc = None      # the push last held, for coupling.relaxation < 1
         self.force = np.zeros((solid.count, 3))
         self.gradient = np.zeros((solid.count, 3))
         skin = 0.1 * self.h if skin is None else float(skin)
@@ -272,6 +271,8 @@ class Coupling:
         if not 0.0 < relaxation <= 1.0:
             raise ValueError(f"coupling.relaxation = {relaxation!r}; allowed: (0, 1]")
         self.model, self.gamma, self.forced_substeps = model, float(gamma), int(substeps)
+        if getattr(self, "relaxation", None) != float(relaxation):
+            self.previous_acc = None      # a push held under another setting is not this one's to blend with
         self.relaxation = float(relaxation)
 
     @property
@@ -314,7 +315,7 @@ class Coupling:
         below 1 in size when w < 2 / (1 + m_a / m_s). A fixed point (a static load) is unchanged."""
         w = self.relaxation
         if w < 1.0:
-            if self.previous_acc is None or self.previous_acc.shape != self.acc.shape:
+            if self.previous_acc is None:
                 self.previous_acc = self.acc.copy()
             else:
                 self.acc *= w

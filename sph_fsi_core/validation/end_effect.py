@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .fe_reference import displacement_at, strip_static
+from .fe_reference import cantilever_beam_deflection, clamped_plate_beam_deflection, displacement_at, strip_static
 
 ELEMENTS_THROUGH = 16
 
@@ -50,12 +50,11 @@ def strip_terms(values, probe_points):
     x_probe = 0.5 * span if both else span - 0.5 * dp
     sensitivity = (solve(0.5 * dp, True)(x_probe, 0.5 * t) / solve(0.0, True)(x_probe, 0.5 * t) - 1.0) / 0.5
     q = p0 + grad * 0.5 * span + weight
-    rigidity = e * t ** 3 / (12.0 * (1.0 - nu * nu))
     if both:
-        euler_bernoulli = -q * span ** 4 / (384.0 * rigidity)
+        euler_bernoulli = -clamped_plate_beam_deflection(span, t, e, nu, q, shear=False)
     else:
-        x = x_probe
-        euler_bernoulli = -q * x ** 2 * (6.0 * span ** 2 - 4.0 * span * x + x * x) / (24.0 * rigidity)
+        rigidity = e * t ** 3 / (12.0 * (1.0 - nu * nu))
+        euler_bernoulli = -cantilever_beam_deflection(span, rigidity, q, x_probe)
     phi = 1.0 - euler_bernoulli / as_loaded(x_probe, 0.5 * t) if grad == 0.0 else float("nan")
     return reference, phi, sensitivity
 
@@ -95,9 +94,7 @@ def beam_terms(values, probe_points, cache=None):
             Path(cache).write_text(json.dumps(stored, indent=1) + "\n")
     down = -stored["mean_uz_m"]
     x = float(np.mean([p[0] for p in probe_points]))
-    q = force / length
-    rigidity = e * width * thickness ** 3 / 12.0
-    euler_bernoulli = q * x ** 2 * (6.0 * length ** 2 - 4.0 * length * x + x * x) / (24.0 * rigidity)
+    euler_bernoulli = cantilever_beam_deflection(length, e * width * thickness ** 3 / 12.0, force / length, x)
     return down, 1.0 - euler_bernoulli / down
 
 

@@ -246,6 +246,13 @@ def clamped_plate_beam_deflection(span, thickness, young_modulus, poisson_ratio,
     return w
 
 
+def cantilever_beam_deflection(length, rigidity, line_load, x):
+    """Euler-Bernoulli deflection (m, along the load) at x from the clamp of a clamped-free beam of bending
+    rigidity `rigidity` (N m^2; D per width for a strip) under a uniform line load `line_load` (N/m; per width for a
+    strip: Pa): q x^2 (6 L^2 - 4 L x + x^2) / (24 EI)."""
+    return line_load * x ** 2 * (6.0 * length ** 2 - 4.0 * length * x + x * x) / (24.0 * rigidity)
+
+
 def strip_static(length, thickness, young_modulus, poisson_ratio, face_pressure, body_force, clamp_both,
                   element_size):
     """Static plane-strain displacement of a strip [0, length] x [0, thickness] (x along it, z across) clamped on
