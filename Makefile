@@ -1,7 +1,7 @@
 # sph_fsi: build, run and test from a local virtual environment.
 #   make run       create .venv, install everything pinned, run the ROS 2 node on the paper's elastic gate at the
-#                  paper's 1 mm (the default scheme: about 3 minutes on 2 cores, plus 2-3 of compiling on the
-#                  first run; a progress line every 10 s),
+#                  paper's 1 mm (the default scheme: about 3 minutes on 2 cores, plus about one of compiling on
+#                  the first run; a progress line every 10 s),
 #                  recording MCAP + Rerun into runs/, its summary and time series into runs/elastic_gate/, exit at
 #                  the end. A quick look: make run NODE_PARAMS="-p numerics.spacing:=0.002 -p solid.scheme:=gray2001"
 #   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from sph_fsi_core.run import machine_info
 
-from . import fluid_throughput, main_job, publishing_cost, recording_cost, solid_throughput
+from . import compile_time, fluid_throughput, main_job, publishing_cost, recording_cost, solid_throughput
 
 
 def main(argv=None):
@@ -60,6 +60,8 @@ def main(argv=None):
     lines += ["", "## Recording cost (MCAP, Rerun)", "", recording_cost.markdown(rec)]
     pub = publishing_cost.main([])
     lines += ["", "## Publishing cost (the node's frame)", "", publishing_cost.markdown(pub)]
+    compiled = compile_time.main([])
+    lines += ["", "## Compile time (a cold cache)", "", compile_time.markdown(compiled)]
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(lines) + "\n")

@@ -113,6 +113,7 @@ def _check_writable_file(option, path):
 def _cmd_run(args):
     import time
     from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, scene_kernels_cached
+    from sph_fsi_core.precompile import compile_cold_scene
     from sph_fsi_core.run import Interrupted, run_scene
     from sph_fsi_core.memory_guard import MAX_PARTICLES_ENV
     from sph_fsi_core.scene import load_scene
@@ -157,6 +158,8 @@ def _cmd_run(args):
     cold = scene_kernels_cached(spec) is False
     if cold:
         print(f"sph-fsi: {COMPILING_LINE}", file=sys.stderr)
+        compile_cold_scene(spec, lambda line: print(f"sph-fsi: {line}", file=sys.stderr),
+                           lambda line: print(f"sph-fsi: warning: {line}", file=sys.stderr))
     with _Signals() as signals:
         def on_sample(sim, row):
             state["sim"] = sim

@@ -26,6 +26,7 @@ import traceback
 from collections import deque
 
 from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, scene_kernels_cached
+from sph_fsi_core.precompile import compile_cold_scene
 from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
@@ -348,6 +349,7 @@ class Runner:
         cold = scene_kernels_cached(spec) is False
         if cold:
             self.log.info(COMPILING_LINE)
+            compile_cold_scene(spec, self.log.info, self.log.warning)
         run = Run(spec, restored=restored)
         if restored is not None:
             self.log.info(f"continuing '{spec.name}' from its checkpoint at t = {run.sim.time:.6g} s "

@@ -10,7 +10,7 @@ they cannot be read, it says it cannot tell rather than guess.
 
 # What a driver says before a run whose kernels are not cached yet.
 COMPILING_LINE = ("compiling the simulator's kernels (Numba; the first run after an install or a source update takes "
-                  "a few minutes here, later runs start at once)")
+                  "a minute or two here, later runs start at once)")
 
 
 def _entry_kernels(phases, fitted_solid=True):

@@ -1,0 +1,102 @@
+"""Compile a coupled scene's kernels in two processes at once when Numba's on-disk cache is cold.
+
+A cold run of the paper's gate compiles for about two and a half minutes in one process (docs/performance/BENCH.md,
+"Compile time"): about 55 % of it the solid's passes and 35 % the fluid's, which share nothing but the neighbour
+search (about 6 %), the coupling 3 %. Numba keeps each compiled function in its cache whichever process compiled
+it, and a function compiles once per argument types, not per value. So two processes on two cores, one taking a
+step of a small beam with the scene's own solid scheme (the settings that select compiled code: the scheme's keys
+and the artificial stress's exponent), the other a step of the small dam break (the same fluid passes: a slab
+periodic along y), fill the cache with both halves at once, and the run then compiles only the coupling.
+
+`python -m sph_fsi_core.precompile SCENE OVERRIDES_JSON` is one such process (build, one outer step, no output).
+"""
+import json
+import os
+import subprocess
+import sys
+import time
+
+from .numerics.jit_cache import kernels_cached
+from .solid.schemes import SCHEME_KEYS
+
+# The keys whose values select which compiled code the solid runs (solid/stepper.solid_drivers, pair_variant).
+SOLID_CODE_KEYS = SCHEME_KEYS + ("solid.artificial_stress_exponent",)
+SOLID_WARM_UP_SCENE = "cantilever"   # 4 x 6 x 40 particles: a step takes well under a second once compiled
+FLUID_WARM_UP_SCENE = "dam_break"    # its fluid and walls as the coupled scenes': a slab periodic along y
+WARM_UP_TIMEOUT_S = 1800.0
+# SPH_FSI_PARALLEL_COMPILE=0 in the environment: compile in the run's own process only (a shared or busy host)
+SWITCH_ENV = "SPH_FSI_PARALLEL_COMPILE"
+
+
+def warm_up_parts(spec):
+    """The warm-up runs for a scene (scene.SceneSpec): [(scene, {key: value})], one per process; empty unless the
+    scene has both a solid and a fluid (one part alone compiles no faster in a process of its own)."""
+    if not ("solid" in spec.phases and "fluid" in spec.phases):
+        return []
+    return [(SOLID_WARM_UP_SCENE, {key: spec[key] for key in SOLID_CODE_KEYS}), (FLUID_WARM_UP_SCENE, {})]
+
+
+def uncached_parts(spec):
+    """warm_up_parts whose half of the kernels is not in the cache yet (its entry kernel: numerics/jit_cache.py)."""
+    fitted = spec["solid.velocity_gradient"] == "quadratic" if "solid" in spec.phases else True
+    phases = {SOLID_WARM_UP_SCENE: ("solid",), FLUID_WARM_UP_SCENE: ("fluid",)}
+    return [(scene, overrides) for scene, overrides in warm_up_parts(spec)
+            if kernels_cached(phases[scene], fitted) is not True]
+
+
+def compile_in_parallel(spec, cpus=None, parts=None):
+    """Run the scene's warm-up parts (`parts`, by default uncached_parts) in processes of their own, all at once, each
+    on one Numba thread; returns (seconds, failures: one line per part that did not finish), or None when there is
+    nothing to run in parallel (a scene with one phase, one half already cached, a single CPU, or
+    SPH_FSI_PARALLEL_COMPILE=0). A failed part costs only time: the run compiles what it left out itself."""
+    parts = uncached_parts(spec) if parts is None else parts
+    cpus = os.cpu_count() if cpus is None else cpus
+    if len(parts) < 2 or (cpus or 1) < 2 or os.environ.get(SWITCH_ENV, "1") == "0":
+        return None
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    started = time.perf_counter()
+    procs = [(scene, subprocess.Popen([sys.executable, "-m", "sph_fsi_core.precompile", scene, json.dumps(overrides)],
+                                      env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True))
+             for scene, overrides in parts]
+    failures = []
+    try:
+        for scene, proc in procs:
+            try:
+                _, err = proc.communicate(timeout=max(WARM_UP_TIMEOUT_S - (time.perf_counter() - started), 1.0))
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.communicate()
+                failures.append(f"{scene}: still compiling after {WARM_UP_TIMEOUT_S:.0f} s, stopped")
+                continue
+            if proc.returncode != 0:
+                last = (err.strip().splitlines() or ["no message"])[-1]
+                failures.append(f"{scene}: exit status {proc.returncode}: {last}")
+    finally:   # stopped (a signal, an error): no process is left compiling behind the run
+        for _, proc in procs:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+    return time.perf_counter() - started, failures
+
+
+def compile_cold_scene(spec, say, warn):
+    """compile_in_parallel, saying what it did: `say(line)` how long it took, `warn(line)` each part that failed."""
+    done = compile_in_parallel(spec)
+    if done is None:
+        return
+    seconds, failures = done
+    say(f"compiled the solid's and the fluid's kernels in two processes at once in {seconds:.0f} s; the run "
+        f"compiles the rest (the coupling)")
+    for failure in failures:
+        warn(f"a compiling process did not finish ({failure}); the run compiles its part itself")
+
+
+def warm_up(scene, overrides):
+    """Build `scene` with `overrides` and take one outer step: every kernel that step calls is compiled and cached."""
+    from .scene import load_scene
+    from .simulation import Simulation
+    Simulation(load_scene(scene, list(overrides.items()))).step()
+
+
+if __name__ == "__main__":
+    warm_up(sys.argv[1], json.loads(sys.argv[2]))
