@@ -373,8 +373,8 @@ def _hydrostatic_plate_rungs():
                           note=f"{layers} particles through the small plate at rho_s = 300 kg/m^3, "
                                f"coupling.relaxation = 0.1"))
     # The fluid's step shrinks with the spacing past 6 through: the correction's iterations per step grow as
-    # (dt / dp)^2, and at 8 through with 1 ms (29 per step) a step reached the 200-iteration cap at 0.24 s and the
-    # plate left its settled deflection (the dt1ms rung, kept as it ran; docs/validation/OPEN.md 1.0).
+    # (dt / dp)^2 (29 per step at 8 through with 1 ms, the dt1ms rung, kept as it ran). It did not keep the 8-through
+    # plate from leaving its deflection at 0.24-0.28 s either way (docs/validation/OPEN.md 1.0).
     for layers in HYDROSTATIC_PLATE_LAYERS:
         rungs.append(Rung("hydrostatic_plate", f"scaled_relaxed_t_over_dp_{layers}", "hydrostatic_plate",
                           {"numerics.spacing": thickness / layers, "solid.young_modulus": HYDROSTATIC_PLATE_SCALED_E,
