@@ -48,11 +48,11 @@ def main(argv=None):
                 rows.append({"round": r + 1, "way": way, "compiled_s": compiled, "wall_s": round(wall, 1)})
                 print(f"round {r + 1}, {way}: compiled and took the first step in {compiled} s", flush=True)
     load = os.getloadavg()[0]
-    return {"scene": args.scene, "rows": rows, "load_average": load}
+    return {"scene": args.scene, "end_time": args.end_time, "rows": rows, "load_average": load}
 
 
 def markdown(result):
-    lines = [f"A cold `sph-fsi run {result['scene']} --end-time 0.001` (an empty NUMBA_CACHE_DIR each), to the end of "
+    lines = [f"A cold `sph-fsi run {result['scene']} --end-time {result['end_time']:g}` (an empty NUMBA_CACHE_DIR each), to the end of "
              f"its first step (the run's own line), in the run's process alone (`SPH_FSI_PARALLEL_COMPILE=0`) and "
              f"with the solid's and the fluid's kernels compiled in two processes at once (sph_fsi_core/"
              f"precompile.py); load average after: {result['load_average']:.1f}.", "",

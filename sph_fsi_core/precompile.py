@@ -16,7 +16,7 @@ import subprocess
 import sys
 import time
 
-from .numerics.jit_cache import kernels_cached
+from .numerics.jit_cache import fitted_solid, kernels_cached
 from .solid.schemes import SCHEME_KEYS
 
 # The keys whose values select which compiled code the solid runs (solid/stepper.solid_drivers, pair_variant).
@@ -38,10 +38,9 @@ def warm_up_parts(spec):
 
 def uncached_parts(spec):
     """warm_up_parts whose half of the kernels is not in the cache yet (its entry kernel: numerics/jit_cache.py)."""
-    fitted = spec["solid.velocity_gradient"] == "quadratic" if "solid" in spec.phases else True
     phases = {SOLID_WARM_UP_SCENE: ("solid",), FLUID_WARM_UP_SCENE: ("fluid",)}
     return [(scene, overrides) for scene, overrides in warm_up_parts(spec)
-            if kernels_cached(phases[scene], fitted) is not True]
+            if kernels_cached(phases[scene], fitted_solid(spec)) is not True]
 
 
 def compile_in_parallel(spec, cpus=None, parts=None):

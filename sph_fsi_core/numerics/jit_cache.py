@@ -43,9 +43,14 @@ def kernels_cached(phases, fitted_solid=True):
         return None
 
 
+def fitted_solid(spec):
+    """Whether a scene (scene.SceneSpec) runs the quadratic fit's solid driver (kernels_cached's fitted_solid)."""
+    return "solid" in spec.phases and spec["solid.velocity_gradient"] == "quadratic"
+
+
 def scene_kernels_cached(spec):
     """kernels_cached for a scene (scene.SceneSpec): its phases and its solid's scheme."""
-    return kernels_cached(spec.phases, "solid" in spec.phases and spec["solid.velocity_gradient"] == "quadratic")
+    return kernels_cached(spec.phases, fitted_solid(spec))
 
 
 def start_parallel_runtime():
