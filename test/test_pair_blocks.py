@@ -9,7 +9,8 @@ one axis is periodic, so the minimum-image and several-block paths are exercised
 import numpy as np
 import pytest
 
-from sph_fsi_core.fluid.okaji import DENSITY_BLOCK_COLUMNS, summation_density, xz_periodic_marker
+from sph_fsi_core.fluid.okaji import (DENSITY_BLOCK_COLUMNS, VISCOUS_BLOCK_COLUMNS, summation_density,
+                                     viscous_velocity, xz_periodic_marker)
 from sph_fsi_core.numerics.kernels import cubic_spline_f, cubic_spline_w
 from sph_fsi_core.fluid.neighbours import FluidNeighbourList
 from sph_fsi_core.numerics.neighbours import NeighbourList
@@ -103,6 +104,46 @@ def test_summation_density_equals_the_sum_over_every_particle(images):
         assert np.abs(cache[:nl.pairs] - f_ref).max() < 1e-12 * np.abs(f_ref).max()
     reference = density(None, everywhere)
     assert all(np.array_equal(x, y) for x, y in zip(reference, (rho, f_fluid, f_wall)))
+
+
+@pytest.mark.parametrize("images", ["rows", "y", "all"])
+def test_viscous_pass_equals_the_sum_over_every_particle(images):
+    """Eq. (9) (Morris form) in blocks against NumPy over every pair, each compilation of the pass (as for the
+    density), and the three give the same bits."""
+    pos, rng = _cloud(seed=3)
+    n = len(pos)
+    mass = rng.uniform(0.9, 1.1, n) * 1e-6
+    rho = rng.uniform(990.0, 1010.0, n)
+    vel = rng.normal(0.0, 0.1, (n, 3))
+    nl = FluidNeighbourList(2 * H, 0.1 * H, half=True, period=PERIOD, box_lo=np.zeros(3),
+                            box_hi=np.array([1.0, SPAN, 1.0]))
+    nl.build(pos, pos)
+    assert np.diff(nl.start).max() > BLOCK   # some rows take two blocks
+    assert 0 < nl.crossing.sum() < n
+    a = np.repeat(np.arange(n), np.diff(nl.start))
+    d = pos[a] - pos[nl.index]
+    d[:, 1] -= SPAN * np.round(d[:, 1] / SPAN)
+    f = np.array([cubic_spline_f(x, H) if x < 2 * H else 0.0 for x in np.sqrt((d * d).sum(-1))])
+    nu, dt = 1e-4, 1e-4
+    everywhere = np.ones(n, dtype=np.bool_)
+
+    def viscous(xz_periodic, crossing):
+        out = np.zeros_like(vel)
+        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, PERIOD, xz_periodic, crossing, H, nu, dt, out,
+                         np.zeros((CHUNKS, n, 3)), block_scratch(CHUNKS, VISCOUS_BLOCK_COLUMNS))
+        return out
+
+    out = viscous(*{"rows": (None, nl.crossing), "y": (None, everywhere), "all": (True, nl.crossing)}[images])
+    dd = _separations(pos, pos)
+    r2 = (dd * dd).sum(-1)
+    ff = np.vectorize(lambda x: cubic_spline_f(x, H) if x < 2 * H else 0.0)(np.sqrt(r2))
+    mu = rho * nu
+    coef = (mu[:, None] + mu[None, :]) / (rho[:, None] * rho[None, :]) * ff * r2 / (r2 + 0.01 * H * H)
+    expected = vel + dt * np.einsum("ab,b,abk->ak", coef, mass, vel[:, None, :] - vel[None, :, :])
+    change = expected - vel
+    assert np.abs(change).max() > 1e-6 * np.abs(vel).max()
+    assert np.abs(out - expected).max() < 1e-11 * np.abs(change).max()
+    assert np.array_equal(out, viscous(None, everywhere))
 
 
 def test_crossing_flags_mark_every_row_that_the_minimum_image_changes():

@@ -330,33 +330,67 @@ def velocity_from_displacement(pos, pos_old, dt, vel):
             vel[a, k] = (pos[a, k] - pos_old[a, k]) * inv_dt
 
 
+# block columns of the viscous pass (pair_blocks.py): r^2, rho_b, F_ab, then v_a - v_b (overwritten by the term)
+_VR2, _VRHO, _VF, _VX = 0, 1, 2, 3
+VISCOUS_BLOCK_COLUMNS = 6
+FLUID_BLOCK_COLUMNS = max(DENSITY_BLOCK_COLUMNS, VISCOUS_BLOCK_COLUMNS)   # the fluid's per-chunk scratch
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _viscous_block(block, m, mua, rhoa, nu, eta2):
+    """Eq. (9)'s pair terms of a block's m pairs: coef_ab (v_a - v_b) in place of v_a - v_b (columns _VX..),
+    coef_ab = (mu_a + mu_b) / (rho_a rho_b) F_ab r^2 / (r^2 + eta^2). A function of its own, as kernel_block: LLVM
+    turns the loop into vector code there, not inlined into the row's gather and scatter."""
+    for j in range(m):
+        r2 = block[_VR2 * STRIDE + j]
+        rhob = block[_VRHO * STRIDE + j]
+        coef = (mua + rhob * nu) / (rhoa * rhob) * block[_VF * STRIDE + j] * r2 / (r2 + eta2)
+        block[_VX * STRIDE + j] = coef * block[_VX * STRIDE + j]
+        block[(_VX + 1) * STRIDE + j] = coef * block[(_VX + 1) * STRIDE + j]
+        block[(_VX + 2) * STRIDE + j] = coef * block[(_VX + 2) * STRIDE + j]
+
+
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu, eta2, out, on_x, on_y,
-                    on_z):
-    """Target a's sum of eq. (9) over its fluid row, each term also given to b in `out`."""
+def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu, eta2, block, out, on_x,
+                    on_y, on_z):
+    """Target a's sum of eq. (9) over its fluid row, each term also given to b in `out`, in blocks of pairs
+    (pair_blocks.py: the two divisions per pair run in SIMD lanes; each term is the scalar loop's expression, so
+    the same bits)."""
     xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-    mua = rho[a] * nu
+    vxa, vya, vza = vel[a, 0], vel[a, 1], vel[a, 2]
+    rhoa = rho[a]
+    mua = rhoa * nu
     ma = mass[a]
     px, py, pz = period[0], period[1], period[2]
     hx, hy, hz = half_period[0], half_period[1], half_period[2]
     sx = sy = sz = 0.0
-    for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):   # pairs in the skin add zeros
-        b = findex[k]
-        dx = fluid_separation(xa - pos[b, 0], px, hx, on_x)
-        dy = fluid_separation(ya - pos[b, 1], py, hy, on_y)
-        dz = fluid_separation(za - pos[b, 2], pz, hz, on_z)
-        r2 = dx * dx + dy * dy + dz * dz
-        coef = (mua + rho[b] * nu) / (rho[a] * rho[b]) * f_fluid[k] * r2 / (r2 + eta2)
-        tx = coef * (vel[a, 0] - vel[b, 0])
-        ty = coef * (vel[a, 1] - vel[b, 1])
-        tz = coef * (vel[a, 2] - vel[b, 2])
-        sx, sy, sz = _pair_to_both(out, b, mass[b], ma, tx, ty, tz, sx, sy, sz)
+    k0, k1 = fstart[a], fstart[a + 1]
+    for lo in range(k0, k1, BLOCK):   # pairs in the skin add zeros
+        m = min(BLOCK, k1 - lo)
+        for j in range(m):
+            k = unsigned(lo + j)
+            b = findex[k]
+            dx = fluid_separation(xa - pos[b, 0], px, hx, on_x)
+            dy = fluid_separation(ya - pos[b, 1], py, hy, on_y)
+            dz = fluid_separation(za - pos[b, 2], pz, hz, on_z)
+            block[_VR2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
+            block[_VRHO * STRIDE + j] = rho[b]
+            block[_VF * STRIDE + j] = f_fluid[k]
+            block[_VX * STRIDE + j] = vxa - vel[b, 0]
+            block[(_VX + 1) * STRIDE + j] = vya - vel[b, 1]
+            block[(_VX + 2) * STRIDE + j] = vza - vel[b, 2]
+        pad_block(block, m, _VRHO, 1.0, _VF, _VX + 3, 0.0)   # rho_b = 1 (divided by), F = 0, no velocity
+        _viscous_block(block, padded(m), mua, rhoa, nu, eta2)
+        for j in range(m):
+            b = findex[unsigned(lo + j)]
+            sx, sy, sz = _pair_to_both(out, b, mass[b], ma, block[_VX * STRIDE + j], block[(_VX + 1) * STRIDE + j],
+                                       block[(_VX + 2) * STRIDE + j], sx, sy, sz)
     return sx, sy, sz
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_periodic, crossing, h, nu, dt, vel_out,
-                     buf):
+                     buf, blocks):
     """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
 
         v_a = v*_a + dt sum_b m_b (mu_a + mu_b) / (rho_a rho_b) (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab,
@@ -364,7 +398,8 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_pe
     mu = rho nu, v_ab = v*_a - v*_b; r_ab . grad_a W_ab = F_ab r_ab^2 < 0, so the sum diffuses momentum and
     conserves it pair by pair (each pair evaluated once, given to both). Fluid neighbours only: the walls are
     free-slip, because the real boundary layer, sqrt(nu t) ~ 0.4 mm at t = 0.2 s, is thinner than any particle
-    spacing used here and a no-slip wall would spread it over 2h. Writes `vel_out` (Jacobi).
+    spacing used here and a no-slip wall would spread it over 2h. Writes `vel_out` (Jacobi). `blocks`: per-chunk
+    pair-block scratch of VISCOUS_BLOCK_COLUMNS columns at least (pair_blocks.block_scratch).
     """
     n = pos.shape[0]
     chunks = buf.shape[0]
@@ -372,6 +407,7 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_pe
     half_period = 0.5 * period
     for c in prange(chunks):
         out = buf[c]
+        block = blocks[c]
         for a in range(n):
             out[a, 0] = 0.0
             out[a, 1] = 0.0
@@ -379,13 +415,13 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_pe
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
             if xz_periodic is not None:
                 sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
-                                             eta2, out, True, True, True)
+                                             eta2, block, out, True, True, True)
             elif crossing[a]:
                 sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
-                                             eta2, out, False, True, False)
+                                             eta2, block, out, False, True, False)
             else:
                 sx, sy, sz = _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, half_period, nu,
-                                             eta2, out, False, False, False)
+                                             eta2, block, out, False, False, False)
             out[a, 0] += sx
             out[a, 1] += sy
             out[a, 2] += sz

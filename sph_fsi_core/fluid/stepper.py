@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 from .neighbours import FluidNeighbourList, inside_box, named_in
-from .okaji import (DENSITY_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
+from .okaji import (FLUID_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
@@ -205,7 +205,7 @@ class FluidSolver:
         self.moved2 = np.zeros(n)
         self.buf = np.zeros((max(numba.get_num_threads(), 1), n, 3))   # per-chunk pair accumulators
         self.density_buf = np.zeros(self.buf.shape[:2])   # per-chunk density sums
-        self.blocks = block_scratch(self.buf.shape[0], DENSITY_BLOCK_COLUMNS)   # per-chunk pair blocks
+        self.blocks = block_scratch(self.buf.shape[0], FLUID_BLOCK_COLUMNS)   # per-chunk pair blocks
         self.f_fluid = np.zeros(0)
         self.f_wall = np.zeros(0)
         self.builds = 0
@@ -343,7 +343,7 @@ class FluidSolver:
         nb = self.fluid_neighbours
         if self.nu > 0.0:
             viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period,
-                             self.xz_periodic, self.crossing, self.h, self.nu, dt, self.vel_work, self.buf)
+                             self.xz_periodic, self.crossing, self.h, self.nu, dt, self.vel_work, self.buf, self.blocks)
             fl.vel[:] = self.vel_work
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)
