@@ -9,6 +9,10 @@ and the artificial stress's exponent), the other a step of the small dam break (
 periodic along y), fill the cache with both halves at once, and the run then compiles only the coupling.
 
 `python -m sph_fsi_core.precompile SCENE OVERRIDES_JSON` is one such process (build, one outer step, no output).
+
+compile_scene does all of a scene's compiling ahead of its run: the two halves so, then the rest (the coupling, the
+water's settling) by building the scene itself and taking one outer step. `sph-fsi compile` calls it, and `make
+install` with the main job, so that the first `make run` after an install starts stepping at once.
 """
 import json
 import os
@@ -43,11 +47,12 @@ def uncached_parts(spec):
             if kernels_cached(phases[scene], fitted_solid(spec)) is not True]
 
 
-def compile_in_parallel(spec, cpus=None, parts=None):
+def compile_in_parallel(spec, cpus=None, parts=None, tick=None, tick_interval_s=15.0):
     """Run the scene's warm-up parts (`parts`, by default uncached_parts) in processes of their own, all at once, each
     on one Numba thread; returns (seconds, failures: one line per part that did not finish), or None when there is
     nothing to run in parallel (a scene with one phase, one half already cached, a single CPU, or
-    SPH_FSI_PARALLEL_COMPILE=0). A failed part costs only time: the run compiles what it left out itself."""
+    SPH_FSI_PARALLEL_COMPILE=0). A failed part costs only time: the run compiles what it left out itself.
+    `tick(seconds)`, if given, is called every `tick_interval_s` of waiting (a progress line)."""
     parts = uncached_parts(spec) if parts is None else parts
     cpus = os.cpu_count() if cpus is None else cpus
     if len(parts) < 2 or (cpus or 1) < 2 or os.environ.get(SWITCH_ENV, "1") == "0":
@@ -58,16 +63,13 @@ def compile_in_parallel(spec, cpus=None, parts=None):
                                       env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True))
              for scene, overrides in parts]
     failures = []
+    deadline = started + WARM_UP_TIMEOUT_S
     try:
         for scene, proc in procs:
-            try:
-                _, err = proc.communicate(timeout=max(WARM_UP_TIMEOUT_S - (time.perf_counter() - started), 1.0))
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.communicate()
+            err = _wait(proc, deadline, tick, tick_interval_s, started)
+            if err is None:
                 failures.append(f"{scene}: still compiling after {WARM_UP_TIMEOUT_S:.0f} s, stopped")
-                continue
-            if proc.returncode != 0:
+            elif proc.returncode != 0:
                 last = (err.strip().splitlines() or ["no message"])[-1]
                 failures.append(f"{scene}: exit status {proc.returncode}: {last}")
     finally:   # stopped (a signal, an error): no process is left compiling behind the run
@@ -76,6 +78,22 @@ def compile_in_parallel(spec, cpus=None, parts=None):
                 proc.kill()
                 proc.wait()
     return time.perf_counter() - started, failures
+
+
+def _wait(proc, deadline, tick, tick_interval_s, started):
+    """proc's stderr once it has ended, or None if it was still running at `deadline` (then it is killed); calls
+    tick(seconds since `started`) every tick_interval_s of waiting."""
+    while True:
+        left = deadline - time.perf_counter()
+        try:
+            return proc.communicate(timeout=max(min(left, tick_interval_s) if tick else left, 0.01))[1]
+        except subprocess.TimeoutExpired:
+            if time.perf_counter() >= deadline:
+                proc.kill()
+                proc.communicate()
+                return None
+            if tick:
+                tick(time.perf_counter() - started)
 
 
 def compile_cold_scene(spec, say, warn):
@@ -88,6 +106,25 @@ def compile_cold_scene(spec, say, warn):
         f"compiles the rest (the coupling)")
     for failure in failures:
         warn(f"a compiling process did not finish ({failure}); the run compiles its part itself")
+
+
+def compile_scene(spec, say, warn, tick_interval_s=15.0):
+    """Compile everything a run of `spec` (scene.SceneSpec) calls, now, before the run: its solid's and fluid's
+    halves in two processes at once (compile_in_parallel; only those not cached yet), then the rest (the coupling,
+    the water's settling) by building the scene itself and taking one outer step in this process. `say(line)`:
+    progress (a line every tick_interval_s while the two processes work); `warn(line)`: a part that failed (this
+    process then compiles it). Returns the seconds it took."""
+    started = time.perf_counter()
+    done = compile_in_parallel(spec, tick=lambda t: say(f"compiling ... {t:.0f} s"), tick_interval_s=tick_interval_s)
+    if done is not None:
+        seconds, failures = done
+        say(f"the solid's and the fluid's kernels compiled in two processes at once in {seconds:.0f} s; now the "
+            f"rest, in one outer step of '{spec.name}'")
+        for failure in failures:
+            warn(f"a compiling process did not finish ({failure}); compiling its part here")
+    from .simulation import Simulation
+    Simulation(spec).step()
+    return time.perf_counter() - started
 
 
 def warm_up(scene, overrides):

@@ -1,5 +1,7 @@
 """sph_fsi_core/precompile.py: a coupled scene's solid and fluid kernels compiled in two processes at once."""
 import subprocess
+import sys
+import time
 
 import pytest
 
@@ -70,3 +72,50 @@ def test_a_failed_part_is_named_and_the_run_goes_on(monkeypatch):
 
 def _no_process(*args, **kwargs):
     raise AssertionError("no process should start")
+
+
+def test_waiting_ticks_and_a_process_past_its_deadline_is_stopped():
+    """precompile._wait: a progress tick every interval while a process runs, its stderr once it ends; a process
+    still running at the deadline is killed and reported as None."""
+    started = time.perf_counter()
+    quick = subprocess.Popen([sys.executable, "-c", "import sys, time; time.sleep(0.5); sys.stderr.write('done')"],
+                             stderr=subprocess.PIPE, text=True)
+    ticks = []
+    assert precompile._wait(quick, started + 30.0, ticks.append, 0.1, started) == "done"
+    assert len(ticks) >= 2 and ticks == sorted(ticks) and 0.0 < ticks[0] < ticks[-1] < 30.0
+    slow = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"], stderr=subprocess.PIPE, text=True)
+    assert precompile._wait(slow, time.perf_counter() + 0.3, None, 0.1, started) is None
+    assert slow.poll() is not None   # killed, not left behind
+
+
+def test_compile_scene_compiles_the_halves_then_steps_the_scene_itself(monkeypatch):
+    """compile_scene (`sph-fsi compile`, make install): the parallel halves first, a failed one warned about, then one
+    outer step of the very scene asked for (so the coupling and the settling compile too), in that order."""
+    calls = []
+    monkeypatch.setattr(precompile, "compile_in_parallel",
+                        lambda spec, tick=None, tick_interval_s=15.0: calls.append(("halves", spec.name)) or
+                        (12.0, ["cantilever: exit status 1: boom"]))
+
+    class FakeSimulation:
+        def __init__(self, spec):
+            calls.append(("build", spec.name, spec["numerics.spacing"]))
+
+        def step(self):
+            calls.append(("step",))
+
+    import sph_fsi_core.simulation
+    monkeypatch.setattr(sph_fsi_core.simulation, "Simulation", FakeSimulation)
+    said, warned = [], []
+    gate = load_scene("elastic_gate", ["numerics.spacing=0.00125"])
+    assert precompile.compile_scene(gate, said.append, warned.append) >= 0.0
+    assert calls == [("halves", "elastic_gate"), ("build", "elastic_gate", 0.00125), ("step",)]
+    assert len(said) == 1 and "12 s" in said[0] and "one outer step of 'elastic_gate'" in said[0]
+    assert warned == ["a compiling process did not finish (cantilever: exit status 1: boom); compiling its part here"]
+
+
+def test_the_compile_command_refuses_a_bad_scene_in_one_line(capsys):
+    """`sph-fsi compile` takes a scene as `run` does: an unknown key is one line naming it, exit status 2."""
+    from sph_fsi.cli import EXIT_BAD_INPUT, main
+    assert main(["compile", "elastic_gate", "--set", "solid.no_such_key=1"]) == EXIT_BAD_INPUT
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "solid.no_such_key" in err[0]
