@@ -199,6 +199,13 @@ def _gate_rungs():
                               end_time=0.14,
                               snapshot_interval=0.02,
                               note=f"dp = {dp * 1e3:g} mm, coupling {model}; the paper's Figs. 6-8 (qualitative)"))
+    # Gray's scheme on the default's ladder (solid_pressure's gate_default_elastic_gate_*): 3 and 6 particles through
+    for dp, label in ((0.004 / 3, "dp1.33mm"), (0.002 / 3, "dp0.67mm")):
+        rungs.append(Rung("elastic_gate", f"pressure_{label}", "elastic_gate",
+                          {"numerics.spacing": dp, "coupling.model": "pressure", "solid.scheme": "gray2001"},
+                          end_time=0.14, snapshot_interval=0.02,
+                          note=f"dp = {dp * 1e3:.3g} mm ({round(0.004 / dp)} particles through the gate), coupling "
+                               f"pressure, solid.scheme = gray2001; the paper's Figs. 6-8 (qualitative)"))
     # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins gray2001
     # for its 2 mm runs, where the gate is 2 particles thick and the fit falls back to linear). quadratic_plain
     # brings its own solid.cfl, 0.25: gray2001's 0.5 suits Gray's gradient, not the fit.
@@ -487,6 +494,15 @@ def _solid_pressure_rungs():
     rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_dp1mm", "antoci_gate", {"numerics.spacing": 0.001},
                       end_time=0.4, note="dp = 1 mm (5 particles through the gate); free end vs Antoci et al. 2007; "
                                          "the implicit pressure"))
+    # the paper's gate on a ladder with the default scheme (the verification issue's item 6: which of the default's
+    # -7.4 mm and Gray's -8.2 mm at 1 mm is right): 3 and 6 particles through the 4 mm gate beside the 1 mm twin's 4.
+    # At 2/3 mm every length of the scene is whole layers as at 1 mm; at 4/3 mm the builder rounds the 2 mm gap under
+    # the gate to 2 layers, 2.67 mm (and the water to 37.3 mm high): summary.json's geometry_effective
+    for dp, label, through in ((0.004 / 3, "dp1.33mm", 3), (0.002 / 3, "dp0.67mm", 6)):
+        rungs.append(Rung("solid_pressure", f"gate_default_elastic_gate_{label}", "elastic_gate",
+                          {"numerics.spacing": dp}, end_time=0.14, snapshot_interval=0.02,
+                          note=f"the paper's gate at dp = {dp * 1e3:.3g} mm ({through} particles through it); the "
+                               f"implicit pressure"))
     # the push relaxed below 2 / (1 + m_a / m_s) (hydrostatic_plate's light_* rungs): does the added-mass alternation
     # move Antoci's peak?
     rungs.append(Rung("solid_pressure", "gate_default_elastic_gate_relaxed_dp1mm", "elastic_gate",
