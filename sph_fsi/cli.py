@@ -226,7 +226,6 @@ def _cmd_run(args):
 
 
 def _cmd_compile(args):
-    import time
     from sph_fsi_core.numerics.jit_cache import scene_kernels_cached
     from sph_fsi_core.precompile import compile_scene
     from sph_fsi_core.scene import load_scene
@@ -235,12 +234,11 @@ def _cmd_compile(args):
     def say(line):
         print(f"sph-fsi: {line}", file=sys.stderr, flush=True)
 
-    started = time.perf_counter()
     if scene_kernels_cached(spec) is not True:
         say(f"compiling the kernels of '{spec.name}' into Numba's cache, once (about a minute and a half on 2 "
             f"cores; its runs then start stepping at once)")
-    compile_scene(spec, say, lambda line: say(f"warning: {line}"))
-    say(f"'{spec.name}' compiled and cached ({time.perf_counter() - started:.0f} s)")
+    seconds = compile_scene(spec, say, lambda line: say(f"warning: {line}"))
+    say(f"'{spec.name}' compiled and cached ({seconds:.0f} s)")
     return 0
 
 

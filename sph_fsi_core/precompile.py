@@ -96,32 +96,29 @@ def _wait(proc, deadline, tick, tick_interval_s, started):
                 tick(time.perf_counter() - started)
 
 
-def compile_cold_scene(spec, say, warn):
-    """compile_in_parallel, saying what it did: `say(line)` how long it took, `warn(line)` each part that failed."""
-    done = compile_in_parallel(spec)
+def compile_cold_scene(spec, say, warn, tick=None, tick_interval_s=15.0,
+                       then="the run compiles the rest (the coupling)", instead="the run compiles its part itself"):
+    """compile_in_parallel, saying what it did: `say(line)` how long it took and `then` (what comes next), `warn(line)`
+    each part that failed and `instead` (who compiles it); `tick`: as compile_in_parallel's."""
+    done = compile_in_parallel(spec, tick=tick, tick_interval_s=tick_interval_s)
     if done is None:
         return
     seconds, failures = done
-    say(f"compiled the solid's and the fluid's kernels in two processes at once in {seconds:.0f} s; the run "
-        f"compiles the rest (the coupling)")
+    say(f"compiled the solid's and the fluid's kernels in two processes at once in {seconds:.0f} s; {then}")
     for failure in failures:
-        warn(f"a compiling process did not finish ({failure}); the run compiles its part itself")
+        warn(f"a compiling process did not finish ({failure}); {instead}")
 
 
 def compile_scene(spec, say, warn, tick_interval_s=15.0):
     """Compile everything a run of `spec` (scene.SceneSpec) calls, now, before the run: its solid's and fluid's
-    halves in two processes at once (compile_in_parallel; only those not cached yet), then the rest (the coupling,
+    halves in two processes at once (compile_cold_scene; only those not cached yet), then the rest (the coupling,
     the water's settling) by building the scene itself and taking one outer step in this process. `say(line)`:
     progress (a line every tick_interval_s while the two processes work); `warn(line)`: a part that failed (this
     process then compiles it). Returns the seconds it took."""
     started = time.perf_counter()
-    done = compile_in_parallel(spec, tick=lambda t: say(f"compiling ... {t:.0f} s"), tick_interval_s=tick_interval_s)
-    if done is not None:
-        seconds, failures = done
-        say(f"the solid's and the fluid's kernels compiled in two processes at once in {seconds:.0f} s; now the "
-            f"rest, in one outer step of '{spec.name}'")
-        for failure in failures:
-            warn(f"a compiling process did not finish ({failure}); compiling its part here")
+    compile_cold_scene(spec, say, warn, tick=lambda t: say(f"compiling ... {t:.0f} s"),
+                       tick_interval_s=tick_interval_s, then=f"now the rest, in one outer step of '{spec.name}'",
+                       instead="compiling its part here")
     from .simulation import Simulation
     Simulation(spec).step()
     return time.perf_counter() - started

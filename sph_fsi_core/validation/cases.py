@@ -152,6 +152,10 @@ def _fluid_rungs():
     return rungs
 
 
+# The paper's 4 mm gate with 3 and 6 particles through it, beside its 1 mm (4): (spacing, label, particles through)
+PAPER_GATE_LADDER = ((0.004 / 3, "dp1.33mm", 3), (0.002 / 3, "dp0.67mm", 6))
+
+
 def _gate_rungs():
     """The coupled cases (issue 4), both coupling models at two resolutions each.
 
@@ -200,11 +204,11 @@ def _gate_rungs():
                               snapshot_interval=0.02,
                               note=f"dp = {dp * 1e3:g} mm, coupling {model}; the paper's Figs. 6-8 (qualitative)"))
     # Gray's scheme on the default's ladder (solid_pressure's gate_default_elastic_gate_*): 3 and 6 particles through
-    for dp, label in ((0.004 / 3, "dp1.33mm"), (0.002 / 3, "dp0.67mm")):
+    for dp, label, through in PAPER_GATE_LADDER:
         rungs.append(Rung("elastic_gate", f"pressure_{label}", "elastic_gate",
                           {"numerics.spacing": dp, "coupling.model": "pressure", "solid.scheme": "gray2001"},
                           end_time=0.14, snapshot_interval=0.02,
-                          note=f"dp = {dp * 1e3:.3g} mm ({round(0.004 / dp)} particles through the gate), coupling "
+                          note=f"dp = {dp * 1e3:.3g} mm ({through} particles through the gate), coupling "
                                f"pressure, solid.scheme = gray2001; the paper's Figs. 6-8 (qualitative)"))
     # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins gray2001
     # for its 2 mm runs, where the gate is 2 particles thick and the fit falls back to linear). quadratic_plain
@@ -498,7 +502,7 @@ def _solid_pressure_rungs():
     # -7.4 mm and Gray's -8.2 mm at 1 mm is right): 3 and 6 particles through the 4 mm gate beside the 1 mm twin's 4.
     # At 2/3 mm every length of the scene is whole layers as at 1 mm; at 4/3 mm the builder rounds the 2 mm gap under
     # the gate to 2 layers, 2.67 mm (and the water to 37.3 mm high): summary.json's geometry_effective
-    for dp, label, through in ((0.004 / 3, "dp1.33mm", 3), (0.002 / 3, "dp0.67mm", 6)):
+    for dp, label, through in PAPER_GATE_LADDER:
         rungs.append(Rung("solid_pressure", f"gate_default_elastic_gate_{label}", "elastic_gate",
                           {"numerics.spacing": dp}, end_time=0.14, snapshot_interval=0.02,
                           note=f"the paper's gate at dp = {dp * 1e3:.3g} mm ({through} particles through it); the "
