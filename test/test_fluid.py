@@ -256,3 +256,15 @@ def test_periodic_or_closed_span_and_refusals():
         load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.span_layers=5"])
     with pytest.raises(SceneError, match="geometry.wall_layers"):
         load_scene("dam_break", ["numerics.spacing=0.005715", "geometry.wall_layers=2"])
+
+
+def test_the_tank_relaxes_its_water_only_when_asked():
+    """geometry.water_damping_ratio (default 0: the tank's water is left alone) relaxes the water's velocities at
+    2 zeta omega_b, omega_b of the column's breathing mode (tank.breathing_period: 4 H / sqrt(g H / tolerance)), as
+    hydrostatic_plate does: the same column on a rigid floor."""
+    from sph_fsi_core.scenes import hydrostatic
+    spec = load_scene("hydrostatic", ["numerics.spacing=0.005"])
+    assert hydrostatic.build(spec.values).fluid_damping_rate == 0.0
+    spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_damping_ratio=0.5"])
+    period = 4 * 0.1 / math.sqrt(9.81 * 0.1 / 0.01)
+    assert hydrostatic.build(spec.values).fluid_damping_rate == pytest.approx(2.0 * 0.5 * 2.0 * math.pi / period)

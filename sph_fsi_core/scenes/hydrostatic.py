@@ -4,6 +4,8 @@ Water: `width` (x) by `depth` (z) on a floor, across a slab of `span_layers` par
 by default (no side walls: a 2D column with 3D kernels). Walls: `wall_layers` layers of fixed particles under the
 floor and beyond both end walls, up to `wall_height`. Gravity -9.81 m/s^2 in z. Judged after settling (the last
 30 % of the run) on the pressure at the floor against rho g H, H = depth (the water's height from its volume).
+`water_damping_ratio` relaxes the water to rest as scenes/hydrostatic_plate.py does (off by default): with it the
+tank is that scene's column on a rigid floor, the fluid's part of the coupled case alone.
 """
 import math
 
@@ -24,6 +26,9 @@ GEOMETRY = [
     Param("geometry.periodic_y", True, "", "Periodic along y (else side walls close the slab)", kind="bool"),
     Param("geometry.wall_layers", 3, "1", "Layers of wall particles (their thickness must reach 2h)", kind="int",
           low=1, high=20),
+    Param("geometry.water_damping_ratio", 0.0, "1", "The water's velocity relaxation, as a fraction of the critical "
+          "damping of the column's breathing mode (0: none; hydrostatic_plate's relaxation, for the same column "
+          "on a rigid floor)", low=0.0, high=100.0),
 ]
 
 DEFAULTS = {"scene.end_time": 1.0, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.0025,
@@ -76,7 +81,10 @@ def build(values):
     dp = values["numerics.spacing"]
     nx, nz = _sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
-    return tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
+    built = tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
+    period = tank.breathing_period(nz * dp, values["scene.gravity"], values["fluid.density_tolerance"])
+    built.fluid_damping_rate = 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / period
+    return built
 
 
 def floor_pressure_fit(pos, pressure, width, depth, h):

@@ -397,6 +397,17 @@ def _hydrostatic_plate_rungs():
                        "fluid.time_step": 1.0e-3, "coupling.relaxation": 0.3}, end_time=0.3,
                       note="8 particles through the plate, E = 3.375 GPa, the default scheme as it is, "
                            "coupling.relaxation = 0.3, the fluid's step 1 ms as at 4 and 6 through"))
+    # The fluid's part alone: the same 2 m column, relaxed the same way, on the rigid floor of the hydrostatic tank
+    # (scenes/hydrostatic.py), its walls as the plate's side walls. Its departure at 0.25-0.4 s is the coupled
+    # 8-through plate's (docs/validation/OPEN.md 1.0); the narrow tank (0.1 m: 16 columns) shows it in a minute.
+    column = {"geometry.depth": 2.0, "geometry.wall_height": 2.1, "geometry.span_layers": 6,
+              "geometry.water_damping_ratio": 1.0, "fluid.time_step": 1.0e-3, "output.timeseries_interval": 1.0e-3}
+    for width, layers, end in ((1.0, 8, 0.32), (0.1, 8, 0.32), (0.1, 6, 0.6)):
+        label = "fluid_alone" + ("_narrow" if width < 1.0 else "") + f"_t_over_dp_{layers}"
+        rungs.append(Rung("hydrostatic_plate", label, "hydrostatic",
+                          {**column, "geometry.width": width, "numerics.spacing": thickness / layers}, end_time=end,
+                          note=f"the plate's column ({width:g} m wide, 2 m of water) on a rigid floor at the "
+                               f"{layers}-through rung's spacing, relaxed as on the plate"))
     return rungs
 
 
