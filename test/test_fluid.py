@@ -268,3 +268,21 @@ def test_the_tank_relaxes_its_water_only_when_asked():
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_damping_ratio=0.5"])
     period = 4 * 0.1 / math.sqrt(9.81 * 0.1 / 0.01)
     assert hydrostatic.build(spec.values).fluid_damping_rate == pytest.approx(2.0 * 0.5 * 2.0 * math.pi / period)
+
+
+def test_the_tank_builds_its_water_compressed_with_its_end_walls_in_register():
+    """geometry.water_start = compressed: the water's layers at depth d spaced dp (1 - c d / H), c the tolerance;
+    the end walls' layers at the water's heights (in register), the floor and the water's mass as on the lattice."""
+    from sph_fsi_core.scenes import hydrostatic
+    flat = hydrostatic.build(load_scene("hydrostatic", ["numerics.spacing=0.005"]).values)
+    spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_start=compressed"])
+    b = hydrostatic.build(spec.values)
+    dp, height, tol = 0.005, spec["geometry.depth"], spec["fluid.density_tolerance"]
+    z0 = np.unique(flat.fluid.pos[:, 2])
+    z = np.unique(np.round(b.fluid.pos[:, 2], 12))
+    assert np.allclose(np.diff(z), dp * (1.0 - tol * (height - 0.5 * (z0[1:] + z0[:-1])) / height), atol=1e-12)
+    walls = np.unique(np.round(b.walls.pos[:, 2], 12))
+    floor = walls[walls < 0.0]
+    assert np.array_equal(floor, np.unique(np.round(flat.walls.pos[:, 2], 12))[:len(floor)])
+    assert np.array_equal(walls[len(floor):len(floor) + len(z)], z)
+    assert np.array_equal(b.fluid.mass, flat.fluid.mass)

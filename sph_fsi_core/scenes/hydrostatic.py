@@ -5,7 +5,8 @@ by default (no side walls: a 2D column with 3D kernels). Walls: `wall_layers` la
 floor and beyond both end walls, up to `wall_height`. Gravity -9.81 m/s^2 in z. Judged after settling (the last
 30 % of the run) on the pressure at the floor against rho g H, H = depth (the water's height from its volume).
 `water_damping_ratio` relaxes the water to rest as scenes/hydrostatic_plate.py does (off by default): with it the
-tank is that scene's column on a rigid floor, the fluid's part of the coupled case alone.
+tank is that scene's column on a rigid floor, the fluid's part of the coupled case alone. `water_start: compressed`
+builds the water and its end walls as that scene does by default (tank.compress_column).
 """
 import math
 
@@ -29,6 +30,10 @@ GEOMETRY = [
     Param("geometry.water_damping_ratio", 0.0, "1", "The water's velocity relaxation, as a fraction of the critical "
           "damping of the column's breathing mode (0: none; hydrostatic_plate's relaxation, for the same column "
           "on a rigid floor)", low=0.0, high=100.0),
+    Param("geometry.water_start", "lattice", "", "How the water is built: 'lattice' on its lattice with no pressure "
+          "(the paper's; it first falls into the correction's band), 'compressed' as the density correction holds "
+          "it at rest (compression linear in depth to the tolerance at the floor) with the end walls beside it "
+          "compressed the same way (tank.compress_column)", kind="str", choices=tank.WATER_STARTS),
 ]
 
 DEFAULTS = {"scene.end_time": 1.0, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.0025,
@@ -82,6 +87,10 @@ def build(values):
     nx, nz = _sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
     built = tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
+    if values["geometry.water_start"] == "compressed":
+        compression = tank.bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
+        for points in (built.fluid.pos, built.walls.pos):
+            points[:, 2] = tank.compress_column(points[:, 2], 0.0, nz * dp, compression)
     period = tank.breathing_period(nz * dp, values["scene.gravity"], values["fluid.density_tolerance"])
     built.fluid_damping_rate = 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / period
     return built

@@ -61,6 +61,11 @@ GEOMETRY = [
     Param("geometry.water_damping_ratio", 1.0, "1", "The water's velocity relaxation, as a fraction of the critical "
           "damping of the column's breathing mode (settles it; the static answer does not depend on it)", low=0.0,
           high=100.0),
+    Param("geometry.water_start", "compressed", "", "How the water is built: 'compressed' as the density correction "
+          "holds it at rest (compression linear in depth to the tolerance at the plate) with the side walls beside "
+          "it compressed the same way (tank.compress_column), or 'lattice' on its lattice with no pressure (the "
+          "paper's start; past 6 particles through the plate its first layer at the walls breaks into a zigzag)",
+          kind="str", choices=tank.WATER_STARTS),
 ]
 
 DEFAULTS = {"scene.end_time": 0.3, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.0125,
@@ -108,9 +113,13 @@ def build(values):
     rho0 = values["fluid.density"]
     scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
     water = tank.lattice(nx, ny, nh, dp, offset=(0.0, 0.0, thickness))
-    fluid = FluidState.at_rest(water, rho0, dp, mass_scale=scale)
     side = tank.lattice(layers, ny, nw, dp, offset=(-layers * dp, 0.0, thickness))
     walls = np.concatenate([side, side + np.array([span + layers * dp, 0.0, 0.0])])
+    if values["geometry.water_start"] == "compressed":
+        compression = tank.bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
+        for points in (water, walls):
+            points[:, 2] = tank.compress_column(points[:, 2], thickness, nh * dp, compression)
+    fluid = FluidState.at_rest(water, rho0, dp, mass_scale=scale)
     wall_state = WallState.lattice(walls, rho0, dp, mass_scale=scale)
 
     probes, mirror = clamped_plate.midspan_probe_and_mirror(plate, movable, span, thickness, dp)

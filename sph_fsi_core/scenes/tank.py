@@ -40,6 +40,31 @@ def breathing_period(height, gravity, tolerance):
     return 4.0 * height / math.sqrt(g * height / tolerance)
 
 
+# geometry.water_start of the static scenes (hydrostatic, hydrostatic_plate): the water built on its lattice with no
+# pressure (the paper's start), or compressed as the density correction holds it at rest (compress_column)
+WATER_STARTS = ("lattice", "compressed")
+
+
+def bottom_compression(tolerance, tolerance_on):
+    """The relative compression the density correction holds at the bottom of a column at rest: the tolerance
+    where it governs the largest compression; twice it where it governs the mean (compression linear in depth)."""
+    return tolerance * (2.0 if tolerance_on == "mean" else 1.0)
+
+
+def compress_column(z, floor, height, compression):
+    """Heights z (m) of lattice sites over `floor` moved down as a water column at rest is compressed: the relative
+    compression linear in depth, `compression` at the floor and none at the surface (floor + height), so a layer
+    at depth d is spaced dp (1 - compression d / height). Sites above the surface (a wall's top) move with it.
+
+    Not in the paper, which starts the water on its lattice with no pressure: that column first falls into the
+    correction's band and settles, and beside a free-slip wall of fixed particles its first layer slides down past
+    the wall's layers, falls out of register with them by half a spacing at depth and breaks into a zigzag
+    (docs/validation/OPEN.md 1.0). Built compressed, with the walls beside it compressed the same way, the water
+    is at rest from the start and stays in register."""
+    u = np.minimum(np.maximum(z - floor, 0.0), height)
+    return z - compression * (height * u - 0.5 * u * u) / height
+
+
 def whole_layers(extent, spacing, key, at_least=1):
     """Number of lattice layers in `extent`, or SceneError if it is not a whole number of spacings."""
     n = extent / spacing
