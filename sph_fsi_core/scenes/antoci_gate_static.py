@@ -17,7 +17,6 @@ fluid step (the correction pressure, docs/validation/OPEN.md 1.4), and the free 
 of its deflection: judged on its mean over the last half of the run, and on the water's mean push on the gate
 against the exact hydrostatic force.
 """
-import math
 
 from . import gate, tank
 from .antoci_gate import DEFAULTS as _ANTOCI_DEFAULTS
@@ -40,9 +39,7 @@ def check(values):
 def build(values):
     built = gate.build(values)
     built.damping_rate = 2.0 * values["geometry.damping_ratio"] * gate.first_mode_omega(values)
-    period = tank.breathing_period(gate.water_surface_z(values), values["scene.gravity"],
-                                   values["fluid.density_tolerance"])
-    built.fluid_damping_rate = 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / period
+    built.fluid_damping_rate = tank.water_relaxation_rate(values, gate.water_surface_z(values))
     return built
 
 

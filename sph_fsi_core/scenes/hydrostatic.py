@@ -87,12 +87,8 @@ def build(values):
     nx, nz = _sites(values)
     wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
     built = tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
-    if values["geometry.water_start"] == "compressed":
-        compression = tank.bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
-        for points in (built.fluid.pos, built.walls.pos):
-            points[:, 2] = tank.compress_column(points[:, 2], 0.0, nz * dp, compression)
-    period = tank.breathing_period(nz * dp, values["scene.gravity"], values["fluid.density_tolerance"])
-    built.fluid_damping_rate = 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / period
+    tank.build_water_start(values, 0.0, nz * dp, built.fluid.pos, built.walls.pos)
+    built.fluid_damping_rate = tank.water_relaxation_rate(values, nz * dp)
     return built
 
 

@@ -115,10 +115,7 @@ def build(values):
     water = tank.lattice(nx, ny, nh, dp, offset=(0.0, 0.0, thickness))
     side = tank.lattice(layers, ny, nw, dp, offset=(-layers * dp, 0.0, thickness))
     walls = np.concatenate([side, side + np.array([span + layers * dp, 0.0, 0.0])])
-    if values["geometry.water_start"] == "compressed":
-        compression = tank.bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
-        for points in (water, walls):
-            points[:, 2] = tank.compress_column(points[:, 2], thickness, nh * dp, compression)
+    tank.build_water_start(values, thickness, nh * dp, water, walls)
     fluid = FluidState.at_rest(water, rho0, dp, mass_scale=scale)
     wall_state = WallState.lattice(walls, rho0, dp, mass_scale=scale)
 
@@ -128,12 +125,10 @@ def build(values):
     lo = np.array([-reach - margin, 0.0, -margin])
     hi = np.array([span + reach + margin, ny * dp, thickness + nw * dp + margin])
     omega = clamped_plate.first_mode_omega(values)
-    omega_water = 2.0 * math.pi / tank.breathing_period(values["geometry.water_height"], values["scene.gravity"],
-                                                        values["fluid.density_tolerance"])
     return Built(solid=solid, fluid=fluid, walls=wall_state, probes=probes, domain_lo=lo, domain_hi=hi,
                  period=np.array([0.0, ny * dp, 0.0]), clamp_mirror=mirror,
                  damping_rate=2.0 * values["geometry.damping_ratio"] * omega,
-                 fluid_damping_rate=2.0 * values["geometry.water_damping_ratio"] * omega_water)
+                 fluid_damping_rate=tank.water_relaxation_rate(values, values["geometry.water_height"]))
 
 
 def sample_fluid(sim):

@@ -40,6 +40,14 @@ def breathing_period(height, gravity, tolerance):
     return 4.0 * height / math.sqrt(g * height / tolerance)
 
 
+def water_relaxation_rate(values, height):
+    """2 zeta omega_b (1/s), the static scenes' relaxation of the water's velocities (hydrostatic_plate,
+    antoci_gate_static, hydrostatic): zeta = geometry.water_damping_ratio, omega_b the breathing mode of a column
+    `height` deep (breathing_period)."""
+    period = breathing_period(height, values["scene.gravity"], values["fluid.density_tolerance"])
+    return 2.0 * values["geometry.water_damping_ratio"] * 2.0 * math.pi / period
+
+
 # geometry.water_start of the static scenes (hydrostatic, hydrostatic_plate): the water built on its lattice with no
 # pressure (the paper's start), or compressed as the density correction holds it at rest (compress_column)
 WATER_STARTS = ("lattice", "compressed")
@@ -63,6 +71,17 @@ def compress_column(z, floor, height, compression):
     is at rest from the start and stays in register."""
     u = np.minimum(np.maximum(z - floor, 0.0), height)
     return z - compression * (height * u - 0.5 * u * u) / height
+
+
+def build_water_start(values, floor, height, *points):
+    """geometry.water_start: with 'compressed', the heights of each (N, 3) array in `points` (the water and the walls
+    beside it) moved in place by compress_column over `floor`, `height` deep, at the bottom compression the scene's
+    tolerance holds; with 'lattice', nothing."""
+    if values["geometry.water_start"] != "compressed":
+        return
+    compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
+    for p in points:
+        p[:, 2] = compress_column(p[:, 2], floor, height, compression)
 
 
 def whole_layers(extent, spacing, key, at_least=1):
