@@ -458,6 +458,13 @@ def _gate_static_rungs():
                           {"numerics.spacing": dp, **EXPLICIT_PRESSURE}, end_time=1.0,
                           note=f"{through} particles through the gate, coupled, the default scheme "
                                f"(quadratic_gradient, mirrored clamp)"))
+        # the same with the water built as the correction holds it and the tank's walls level with it (the
+        # hydrostatic plate's cure for its first column's zigzag at the walls): is the slow swing the water's start?
+        rungs.append(Rung("gate_static", f"coupled_gradient_mirrored_compressed_{label}", "antoci_gate_static",
+                          {"numerics.spacing": dp, **EXPLICIT_PRESSURE, "geometry.water_start": "compressed"},
+                          end_time=1.0,
+                          note=f"{through} particles through the gate, coupled, the default scheme "
+                               f"(quadratic_gradient, mirrored clamp), the water built compressed with its walls"))
     # the push relaxed below 2 / (1 + m_a / m_s) (m_a / m_s about 9 here; hydrostatic_plate's light_* rungs), at the
     # scene's own spacing (its YAML's, 3 through) as the unrelaxed run above
     rungs.append(Rung("gate_static", "coupled_gradient_mirrored_relaxed_dp1.67mm", "antoci_gate_static",
