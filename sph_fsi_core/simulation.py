@@ -37,6 +37,11 @@ _NO_EXTERNAL = np.zeros((0, 3))
 _NO_MIRROR = np.zeros(0, dtype=np.int64)
 # the largest solid.cfl run with the quadratic fit: 0.35 held on the paper's beam (0.3 in its gate), 0.4 diverged
 QUADRATIC_FIT_TESTED_CFL = 0.35
+# the strain gradient's volumetric part (solid.volumetric_gradient) stepped explicitly stiffens the lattice's shortest
+# modes as a wave of speed^2 kappa K / rho would: the default scheme's linear stability limit on the paper's beam
+# (validation/linear_modes.default_scheme_stable_cfl and its volumetric twin) falls from cfl 0.433 to 0.417 / 0.392 /
+# 0.341 / 0.179 at nu = 0.3 / 0.4 / 0.45 / 0.49, kappa = 0.05-0.13; the largest, so the step keeps its margin
+VOLUMETRIC_GRADIENT_WAVE = 0.13
 # the settling phase's velocity relaxation, rate = SETTLE_RELAXATION / fluid.settle_time: a velocity's memory falls
 # to e^-10 over the phase, and the column still sinks into its compression (at g / rate, 0.1 m/s for 0.1 s)
 SETTLE_RELAXATION = 10.0
@@ -236,7 +241,7 @@ class Simulation:
             fit_refresh_turn=v["solid.fit_refresh_turn"], pressure=v["solid.pressure"],
             pressure_tolerance=v["solid.pressure_tolerance"],
             pressure_max_iterations=v["solid.pressure_max_iterations"], fit_refresh=v["solid.fit_refresh"],
-            fit_refresh_strain=v["solid.fit_refresh_strain"])
+            fit_refresh_strain=v["solid.fit_refresh_strain"], volumetric_gradient=v["solid.volumetric_gradient"])
         if v["solid.pressure"] == "implicit" and v["solid.velocity_gradient"] != "quadratic":
             raise SceneError(f"solid.pressure = implicit solves with the quadratic fit's pair weights; "
                              f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
@@ -245,8 +250,12 @@ class Simulation:
             raise SceneError(f"solid.nodal_integration = gradient needs the quadratic fit's second derivatives; "
                              f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
                              f"solid.nodal_integration = plain)")
+        if v["solid.volumetric_gradient"] and v["solid.nodal_integration"] != "gradient":
+            raise SceneError("solid.volumetric_gradient = true is the volumetric part of the strain-gradient "
+                             f"integration; solid.nodal_integration = {v['solid.nodal_integration']}: allowed: "
+                             "gradient (or solid.volumetric_gradient = false)")
         forced = v["solid.time_step"]
-        wave = self._step_wave_speed(v["solid.pressure"], c0, shear, v["solid.density"])
+        wave = self._step_wave_speed(v["solid.pressure"], c0, shear, v["solid.density"], params.gradient_bulk_modulus)
         limit = self._stable_dt(v["solid.cfl"], wave)
         if forced > limit:
             raise SceneError(f"solid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
@@ -255,10 +264,12 @@ class Simulation:
         return bulk, shear, c0, params
 
     @staticmethod
-    def _step_wave_speed(pressure, c0, shear, density):
+    def _step_wave_speed(pressure, c0, shear, density, gradient_bulk_modulus=0.0):
         """The wave speed that sets the solid's step: c0, or with the implicit pressure the deviatoric stress's
-        fastest wave (solid/implicit_pressure.py)."""
-        return deviatoric_wave_speed(shear, density) if pressure == "implicit" else c0
+        fastest wave (solid/implicit_pressure.py); with the strain gradient's volumetric part (stepped explicitly)
+        sqrt(c^2 + VOLUMETRIC_GRADIENT_WAVE K / rho) (its stiffness at the lattice's scale)."""
+        c = deviatoric_wave_speed(shear, density) if pressure == "implicit" else c0
+        return math.sqrt(c * c + VOLUMETRIC_GRADIENT_WAVE * gradient_bulk_modulus / density)
 
     def _fluid_settings(self, spec):
         """The fluid solver's settings from `spec`; SceneError if a forced fluid.time_step is above the stable limit."""
@@ -434,8 +445,9 @@ class Simulation:
     def stable_solid_dt(self):
         """dt = cfl * h / (c0 + |v|max), the solid's acoustic limit (METHOD sec. 1)."""
         v = self.spec.values
-        return self._stable_dt(v["solid.cfl"], self._step_wave_speed(v["solid.pressure"], self.sound_speed,
-                                                                     self.shear_modulus, v["solid.density"]))
+        return self._stable_dt(v["solid.cfl"], self._step_wave_speed(
+            v["solid.pressure"], self.sound_speed, self.shear_modulus, v["solid.density"],
+            self.solid_params.gradient_bulk_modulus))
 
     def _solid_dt(self):
         limit = self.stable_solid_dt()
@@ -663,7 +675,8 @@ class Simulation:
                                                  self.bulk_modulus)
             if len(s.stress_gradient):
                 out["strain_energy"] += gradient_strain_energy(s.mass, s.rho, s.stress_gradient,
-                                                               self.solid_params.cell_moment, self.shear_modulus)
+                                                               self.solid_params.cell_moment, self.shear_modulus,
+                                                               self.solid_params.gradient_bulk_modulus)
         if self.fluid is not None:
             f = self.fluid
             out["fluid_kinetic_energy"] = float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())

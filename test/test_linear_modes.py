@@ -88,3 +88,25 @@ def test_default_scheme_step_is_inside_its_linear_limit():
     limit lies between."""
     cfl = linear_modes.default_scheme_stable_cfl()
     assert 0.35 < cfl < 0.5
+
+
+def test_assembled_plate_has_its_time_stepped_static_answer():
+    """The default scheme's plate alone at 4 through: time-stepped +2.64 % against plane-strain FE
+    (docs/validation/solid_static/REPORT.md, quadratic_gradient_mirrored_t_over_dp_4); the volumetric part of the
+    strain-gradient energy takes it within 1 % (docs/validation/linear_modes)."""
+    r = linear_modes.clamped_plate_deflection(["numerics.spacing=0.0125"])
+    assert 100 * r["error"] == pytest.approx(2.64, abs=0.1)
+    full = linear_modes.clamped_plate_deflection(["numerics.spacing=0.0125"], volumetric_gradient=True)
+    assert 0.0 < full["error"] < 0.01
+
+
+@pytest.mark.parametrize("nu", [0.3, 0.49])
+def test_volumetric_gradient_step_keeps_the_default_margin(nu):
+    """With solid.volumetric_gradient the step's wave speed takes VOLUMETRIC_GRADIENT_WAVE K / rho more (simulation.py):
+    cfl 0.25 then stays at or below the fraction of the linear limit it runs at without it (0.25 / 0.433)."""
+    import math
+    from sph_fsi_core.simulation import VOLUMETRIC_GRADIENT_WAVE
+    limit = linear_modes.default_scheme_stable_cfl([f"solid.poisson_ratio={nu}"], volumetric_gradient=True)
+    bulk_over_dev = (1.0 + nu) / (2.0 * (1.0 - 2.0 * nu))       # (K / rho) / c_dev^2 = 3 K / 4 G
+    effective = 0.25 / math.sqrt(1.0 + VOLUMETRIC_GRADIENT_WAVE * bulk_over_dev)
+    assert effective / limit <= 0.25 / 0.433 + 1e-3

@@ -22,8 +22,8 @@ CONSERVATIVE = False     # the load does work
 
 # the static gate's keys less the water's and the tank's (this scene has neither; layout_values fills them in for
 # gate.build, whose gate does not depend on them)
-_NOT_HERE = ("geometry.water_damping_ratio", "geometry.water_width", "geometry.downstream_length",
-             "geometry.wall_height", "geometry.wall_layers")
+_NOT_HERE = ("geometry.water_damping_ratio", "geometry.water_start", "geometry.water_width",
+             "geometry.downstream_length", "geometry.wall_height", "geometry.wall_layers")
 GEOMETRY = [p for p in _STATIC_GEOMETRY if p.key not in _NOT_HERE] + [
     Param("geometry.water_density", 1000.0, "kg/m^3", "Density of the water whose hydrostatic pressure loads the gate",
           low=0.0, low_inclusive=False, high=1.0e5),

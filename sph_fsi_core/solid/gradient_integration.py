@@ -155,14 +155,16 @@ def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, 
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def stress_gradient_rate(hessian, grad_v, stress, stress_gradient, shear_modulus, rate):
+def stress_gradient_rate(hessian, grad_v, stress, stress_gradient, shear_modulus, bulk_modulus, rate):
     """dT[k]/dt for T[k] = d_k S following the particle: the gradient of the Jaumann-Hooke rate of S, less the
     convection of a spatial gradient by the flow (d/dt d_k = d_k d/dt - L_lk d_l):
 
-        dT[k]/dt = 2G dev(e_k) + (d_k W) S - S (d_k W) + W T[k] - T[k] W - L_lk T[l],
+        dT[k]/dt = 2G dev(e_k) + K tr(e_k) I + (d_k W) S - S (d_k W) + W T[k] - T[k] W - L_lk T[l],
 
     e_k and d_k W the symmetric and antisymmetric parts of d_k L (the fit's Hessian, d_k L_im = d_m d_k v_i), W
-    the spin. A rigidly rotating bent body keeps its stress gradient, turned with it.
+    the spin. A rigidly rotating bent body keeps its stress gradient, turned with it. K tr(e_k) I is the
+    volumetric part (solid.volumetric_gradient; bulk_modulus 0: the deviatoric part only, T traceless): the
+    gradient of -p, whose spin terms vanish (an isotropic tensor commutes with W).
     """
     g2 = 2.0 * shear_modulus
     n = hessian.shape[0]
@@ -195,9 +197,9 @@ def stress_gradient_rate(hessian, grad_v, stress, stress_gradient, shear_modulus
                                       + sp[i, q] * tk[k, q, j] + sp[j, q] * tk[k, i, q]
                                       - grad_v[a, q, k] * tk[q, i, j])
                         m[i, j] = value
-                m[0, 0] -= g2 / 3.0 * trace
-                m[1, 1] -= g2 / 3.0 * trace
-                m[2, 2] -= g2 / 3.0 * trace
+                m[0, 0] += (bulk_modulus - g2 / 3.0) * trace
+                m[1, 1] += (bulk_modulus - g2 / 3.0) * trace
+                m[2, 2] += (bulk_modulus - g2 / 3.0) * trace
                 rate[a, k, XX] = m[0, 0]
                 rate[a, k, YY] = m[1, 1]
                 rate[a, k, ZZ] = m[2, 2]
@@ -207,13 +209,19 @@ def stress_gradient_rate(hessian, grad_v, stress, stress_gradient, shear_modulus
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def gradient_strain_energy(mass, rho, stress_gradient, cell_moment, shear_modulus):
-    """sum_a V_a m sum_k T[k] : T[k] / (4G), the deviatoric energy of the stress gradient (T is traceless)."""
+def gradient_strain_energy(mass, rho, stress_gradient, cell_moment, shear_modulus, bulk_modulus=0.0):
+    """sum_a V_a m sum_k (dev T[k] : dev T[k] / (4G) + tr(T[k])^2 / (18 K)), the energy of the stress gradient
+    (T traceless without its volumetric part, bulk_modulus 0)."""
     total = 0.0
     for a in range(mass.shape[0]):
         for k in range(3):
             t = stress_gradient[a, k]
-            tt = t[XX] ** 2 + t[YY] ** 2 + t[ZZ] ** 2 + 2.0 * (t[XY] ** 2 + t[XZ] ** 2 + t[YZ] ** 2)
-            total += mass[a] / rho[a] * cell_moment * tt / (4.0 * shear_modulus)
+            trace = t[XX] + t[YY] + t[ZZ]
+            tt = (t[XX] ** 2 + t[YY] ** 2 + t[ZZ] ** 2 - trace * trace / 3.0
+                  + 2.0 * (t[XY] ** 2 + t[XZ] ** 2 + t[YZ] ** 2))
+            e = tt / (4.0 * shear_modulus)
+            if bulk_modulus > 0.0:
+                e += trace * trace / (18.0 * bulk_modulus)
+            total += mass[a] / rho[a] * cell_moment * e
     return total
 

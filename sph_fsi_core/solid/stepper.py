@@ -74,6 +74,7 @@ class SolidParams(NamedTuple):
     half_skin: float
     gradient_order: int    # 0: Gray's SPH gradient (the paper); 1: kernel-corrected L K^-1; 2: quadratic fit
     cell_moment: float     # m = dp^2 / 12 of the strain-gradient nodal integration (0: off)
+    gradient_bulk_modulus: float   # K of the stress gradient's volumetric part (solid.volumetric_gradient; 0: off)
     fit_refresh_turn: float   # refit the quadratic fit once some particle's integral of |L| dt passes this (0: never)
     implicit_pressure: bool   # solid.pressure = implicit (solid/implicit_pressure.py); needs gradient_order 2
     rotate_fit: bool          # solid.fit_refresh = rotate (solid/fit_rotation.py)
@@ -85,12 +86,15 @@ class SolidParams(NamedTuple):
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
                 skin, velocity_gradient="sph", nodal_integration="plain", fit_refresh_turn=0.0, pressure="explicit",
-                pressure_tolerance=1e-4, pressure_max_iterations=200, fit_refresh="remake", fit_refresh_strain=1e-3):
+                pressure_tolerance=1e-4, pressure_max_iterations=200, fit_refresh="remake", fit_refresh_strain=1e-3,
+                volumetric_gradient=False):
     return SolidParams(h=h, rho0=density, c0=c0, shear_modulus=shear_modulus, xsph_eps=xsph_eps, alpha=alpha,
                        beta=beta, art_eps=art_eps, art_exponent=int(art_exponent) if art_eps > 0.0 else 0,
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
                        half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient],
                        cell_moment=spacing ** 2 / 12.0 if nodal_integration == "gradient" else 0.0,
+                       gradient_bulk_modulus=c0 * c0 * density if volumetric_gradient and nodal_integration == "gradient"
+                       else 0.0,
                        fit_refresh_turn=0.0 if velocity_gradient != "quadratic" else
                        fit_refresh_turn or (GRADIENT_FIT_REFRESH_TURN if nodal_integration == "gradient" else 0.0),
                        implicit_pressure=pressure == "implicit", rotate_fit=fit_refresh == "rotate",
@@ -461,7 +465,8 @@ def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_
         if prm.cell_moment > 0.0:
             velocity_hessian(pos, period, crossing, volume, vel, start, index, prm.h, mls_rows, w, hessian,
                              hessian_moments)
-            stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus, dstress_gradient)
+            stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus,
+                                 prm.gradient_bulk_modulus, dstress_gradient)
         _advance_state(dt, state, work, prm, clamp_mirror)
         fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
         _half_kick(dt, vel, acc, movable, clamp_mirror)

@@ -45,13 +45,22 @@ def _kernel_w_f(r, h):
     return w, f
 
 
-def pairs(pos, h):
-    """(a, b, d): every ordered pair within the kernel's support 2h (a != b), d = X_b - X_a."""
+def pairs(pos, h, period=None):
+    """(a, b, d): every ordered pair within the kernel's support 2h (a != b), d = X_b - X_a (the minimum image
+    along the axes where `period` > 0: a periodic slab)."""
     from scipy.spatial import cKDTree
-    ij = cKDTree(pos).query_pairs(SUPPORT_RADIUS_IN_H * h * (1.0 - 1e-12), output_type="ndarray")
+    cutoff = SUPPORT_RADIUS_IN_H * h * (1.0 - 1e-12)
+    period = np.zeros(3) if period is None else np.asarray(period, dtype=float)
+    lo = pos.min(axis=0)
+    box = np.where(period > 0.0, period, pos.max(axis=0) - lo + 4.0 * cutoff)
+    shifted = np.mod(pos - lo, box)
+    ij = cKDTree(shifted, boxsize=box).query_pairs(cutoff, output_type="ndarray")
     a = np.concatenate([ij[:, 0], ij[:, 1]])
     b = np.concatenate([ij[:, 1], ij[:, 0]])
-    return a, b, pos[b] - pos[a]
+    d = pos[b] - pos[a]
+    wrap = period > 0.0
+    d[:, wrap] -= period[wrap] * np.round(d[:, wrap] / period[wrap])
+    return a, b, d
 
 
 def corrected_kernel_weights(n, a, b, d, volume, h):
@@ -218,13 +227,13 @@ def hourglass_stiffness(grad, a, b, d, volume, h, young, alpha):
 
 def stiffness(pos, volume, h, young, nu, weights="corrected_kernel", hourglass_alpha=0.0,
               nodal_integration="plain", cell_moment=0.0, stores_energy=None, volumetric_gradient=False,
-              deviatoric=False):
+              deviatoric=False, period=None):
     """The assembled K (3n x 3n, sparse) of the particles at `pos` (their reference configuration). Particles where
     `stores_energy` is False (a mirrored clamp's ghosts) lend their positions to the fits but store no energy.
     `volumetric_gradient`: the strain-gradient term's volumetric part too (not the scheme's); `deviatoric`: the
     deviatoric stiffness only (what the implicit pressure leaves to the explicit steps)."""
     n = len(pos)
-    a, b, d = pairs(pos, h)
+    a, b, d = pairs(pos, h, period)
     make = {"corrected_kernel": corrected_kernel_weights, "quadratic_fit": quadratic_fit_weights}[weights]
     grad = gradient_operator(n, a, b, make(n, a, b, d, volume, h))
     energy_volume = volume if stores_energy is None else np.where(stores_energy, volume, 0.0)
@@ -266,7 +275,7 @@ def lowest_modes(k, mass, movable, count=12, shift=0.0, clamp_map=None):
     from scipy.sparse.linalg import eigs, eigsh
     n = len(mass)
     if clamp_map is None:
-        clamp_map = diags(np.repeat(movable.astype(float), 3), format="csr")[:, np.repeat(movable, 3)]
+        clamp_map = _movable_map(movable)
     kk = clamp_map.T @ k @ clamp_map
     m = np.repeat(mass[movable], 3)
     scale = diags(1.0 / np.sqrt(m))
@@ -342,21 +351,90 @@ def highest_frequency(k, mass, movable, clamp_map=None):
     from scipy.sparse import diags
     from scipy.sparse.linalg import eigsh
     if clamp_map is None:
-        clamp_map = diags(np.repeat(movable.astype(float), 3), format="csr")[:, np.repeat(movable, 3)]
+        clamp_map = _movable_map(movable)
     scale = diags(1.0 / np.sqrt(np.repeat(mass[movable], 3)))
     a = (scale @ (clamp_map.T @ k @ clamp_map) @ scale).tocsc()
     return float(math.sqrt(eigsh(a, k=1, which="LA", return_eigenvectors=False)[0]))
 
 
-def default_scheme_stable_cfl(overrides=()):
+def default_scheme_stable_cfl(overrides=(), volumetric_gradient=False):
     """The largest solid.cfl at which the default scheme's explicit part (the deviatoric stress and its gradient;
     the pressure is implicit) is linearly stable on the cantilever scene's beam at rest: the step dt = cfl h / c_dev
-    (simulation.py, c_dev = sqrt(4 G / 3 rho)) against leapfrog's 2 / omega_max."""
+    (simulation.py, c_dev = sqrt(4 G / 3 rho)) against leapfrog's 2 / omega_max. `volumetric_gradient`: with the
+    strain gradient's volumetric part too, which is stepped explicitly (solid.volumetric_gradient)."""
     v, built = _cantilever(overrides, "mirrored")
     k, clamp_map = _cantilever_stiffness(v, built, "mirrored", weights="quadratic_fit", nodal_integration="gradient",
                                          deviatoric=True)
+    if volumetric_gradient:
+        solid = built.solid
+        dp = v["numerics.spacing"]
+        h = v["numerics.smoothing_ratio"] * dp
+        n = len(solid.pos)
+        a, b, d = pairs(solid.pos, h)
+        volume = solid.mass / solid.rho
+        gh = quadratic_fit_hessian_weights(n, a, b, d, volume, h)
+        nu, young = v["solid.poisson_ratio"], v["solid.young_modulus"]
+        shear, bulk = young / (2.0 * (1.0 + nu)), young / (3.0 * (1.0 - 2.0 * nu))
+        energy_volume = volume * solid.movable
+        k = k + (strain_gradient_stiffness(n, a, b, gh, energy_volume, shear, dp * dp / 12.0, bulk)
+                 - strain_gradient_stiffness(n, a, b, gh, energy_volume, shear, dp * dp / 12.0))
     omega = highest_frequency(k, built.solid.mass, built.solid.movable, clamp_map)
     shear = v["solid.young_modulus"] / (2.0 * (1.0 + v["solid.poisson_ratio"]))
     c_dev = math.sqrt(4.0 * shear / (3.0 * v["solid.density"]))
     h = v["numerics.smoothing_ratio"] * v["numerics.spacing"]
     return 2.0 / omega * c_dev / h
+
+
+def static_displacement(scene, overrides=(), volumetric_gradient=False, weights="quadratic_fit",
+                        nodal_integration="gradient", clamp="mirrored"):
+    """(u (n, 3), built, values): a solid-only scene's static answer assembled and solved, K u = f, f its
+    `solid_load` and its own weight on the movable particles (a periodic slab's pairs across its period). The
+    default: the default scheme (the quadratic fit, the strain-gradient term, the mirrored clamp)."""
+    from scipy.sparse.linalg import spsolve
+    from ..scene import load_scene
+    from ..scenes import BUILDERS
+    v = load_scene(scene, [f"solid.clamp={clamp}", *overrides]).values
+    built = BUILDERS[scene].build(v)
+    solid = built.solid
+    dp = v["numerics.spacing"]
+    mirrored = clamp == "mirrored"
+    k = stiffness(solid.pos, solid.mass / solid.rho, v["numerics.smoothing_ratio"] * dp, v["solid.young_modulus"],
+                  v["solid.poisson_ratio"], weights, 0.0, nodal_integration, dp * dp / 12.0,
+                  solid.movable if mirrored else None, volumetric_gradient, period=built.period)
+    clamp_map = (mirrored_clamp_map(built.clamp_mirror, solid.movable) if mirrored else
+                 _movable_map(solid.movable))
+    force = built.solid_load + solid.mass[:, None] * np.asarray(v["scene.gravity"])[None, :]
+    force[~solid.movable] = 0.0
+    u = clamp_map @ spsolve((clamp_map.T @ k @ clamp_map).tocsc(), clamp_map.T @ force.ravel())
+    return u.reshape(len(solid.pos), 3), built, v
+
+
+def clamped_plate_deflection(overrides=(), **kw):
+    """The clamped_plate scene's mid-span deflection assembled (static_displacement) against its plane-strain FE
+    reference: a dict."""
+    from ..scenes import clamped_plate
+    from .fe_reference import clamped_plate_fe_deflection
+    u, built, v = static_displacement("clamped_plate", overrides, **kw)
+    deflection = float(u[built.probes[0].indices, 2].mean())
+    reference = clamped_plate_fe_deflection(v["geometry.span"], v["geometry.thickness"], v["solid.young_modulus"],
+                                            v["solid.poisson_ratio"], lambda x: clamped_plate.pressure_at(v, x),
+                                            v["solid.density"] * v["scene.gravity"][2])["midspan_deflection_m"]
+    return {"deflection_m": deflection, "reference_m": reference, "error": deflection / reference - 1.0}
+
+
+def gate_loaded_deflection(overrides=(), **kw):
+    """The antoci_gate_loaded scene's free-end deflection along the water's push, assembled, against its
+    plane-strain FE reference (scenes/gate.py, static_tip_reference): a dict."""
+    from ..scenes import antoci_gate_loaded, gate
+    u, built, v = static_displacement("antoci_gate_loaded", overrides, **kw)
+    push = 1.0 if v["geometry.mirror"] else -1.0
+    deflection = float(push * u[built.probes[0].indices, 0].mean())
+    reference = gate.static_tip_reference(antoci_gate_loaded.layout_values(v), v["geometry.water_density"],
+                                          abs(v["scene.gravity"][2]))["fe_tip_deflection_m"]
+    return {"deflection_m": deflection, "reference_m": reference, "error": deflection / reference - 1.0}
+
+
+def _movable_map(movable):
+    """P (3n x 3m): the movable particles' displacements placed, the fixed ones' zero."""
+    from scipy.sparse import diags
+    return diags(np.repeat(movable.astype(float), 3), format="csr")[:, np.repeat(movable, 3)]

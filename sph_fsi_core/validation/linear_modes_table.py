@@ -4,7 +4,7 @@ the same beams against 3D FE (the verification issue's candidate for the default
 
     python -m sph_fsi_core.validation.linear_modes_table --out docs/validation/linear_modes
 
-writes REPORT.md there (about 4 minutes on one core: the 8-through rows take 40 s each).
+writes REPORT.md there (about 8 minutes on one core).
 """
 import argparse
 import json
@@ -12,13 +12,20 @@ import time
 from pathlib import Path
 
 from .cases import CANTILEVER_SHAPE_POISSON, CANTILEVER_SHAPE_SLENDERNESS
-from .linear_modes import cantilever_frequency, default_scheme_stable_cfl
+from .linear_modes import (cantilever_frequency, clamped_plate_deflection, default_scheme_stable_cfl,
+                           gate_loaded_deflection)
 
 # The quadratic_plain beams time-stepped (solid.scheme = quadratic_plain: the fixed clamp with its 5-layer margin,
 # explicit pressure, 2.25 periods), Hz: docs/validation/REPORT.md, rows cantilever_plain_ladder/H_over_dp_{4,6,8}
 # (L = 40 mm) and cantilever_plain_length/L{60,80,100,120} (dp = 1 mm)
 TIME_STEPPED_QUADRATIC_PLAIN = {(4, 40): 16.672, (6, 40): 17.057, (8, 40): 17.208, (4, 60): 7.451, (4, 80): 4.201,
                                 (4, 100): 2.691, (4, 120): 1.870}
+
+# The default scheme's static answers time-stepped (explicit pressure, the mirrored clamp), error against
+# plane-strain FE, %: docs/validation/solid_static/REPORT.md (quadratic_gradient_mirrored_t_over_dp_{4,6,8,10}) and
+# docs/validation/gate_static/REPORT.md (loaded_gradient_mirrored_dp{1.67,1.25}mm)
+TIME_STEPPED_PLATE = {4: 2.64, 6: 1.23, 8: 0.73, 10: 0.50}
+TIME_STEPPED_GATE = {(0.005 / 3, "5/3"): 1.69, (0.00125, "1.25"): 1.09}
 
 # Ganzenmueller's hourglass coefficient: TrixiParticles' PenaltyForceGanzenmueller default
 HOURGLASS_ALPHA = 0.1
@@ -105,6 +112,27 @@ def report():
             lines.append(f"| {nu:g} | {ratio} | {tl['frequency_hz']:.4g} Hz ({100 * tl['error']:+.2f} %) | "
                          f"{default['frequency_hz']:.4g} Hz ({100 * default['error']:+.3f} %) | {shown} | "
                          f"{100 * full['error']:+.3f} % | {tl['wall_s'] + default['wall_s'] + full['wall_s']:.1f} |")
+    lines += ["", "## Under a static load: the default scheme, and with the volumetric gradient", "",
+              "The static verification cases' solids alone (docs/validation/OPEN.md 1.0), K u = f assembled and "
+              "solved: clamped_plate (the hydrostatic plate's plate under its water's exact pressure and its own "
+              "weight, a periodic slab) and antoci_gate_loaded (Antoci's gate under its water's exact pressure at "
+              "g = 1 m/s^2), each against its plane-strain FE; the time-stepped runs beside (docs/validation/"
+              "solid_static, gate_static). The time-stepped gate deflects 5 % of its length, where this answer is "
+              "linear.", "",
+              "| case | spacing | default scheme, assembled | time-stepped | with the volumetric gradient, assembled | "
+              "wall [s] |", "|---|---|---|---|---|---|"]
+    for through, stepped in TIME_STEPPED_PLATE.items():
+        start = time.perf_counter()
+        base = clamped_plate_deflection([f"numerics.spacing={0.05 / through!r}"])
+        full = clamped_plate_deflection([f"numerics.spacing={0.05 / through!r}"], volumetric_gradient=True)
+        lines.append(f"| the plate | {through} through | {100 * base['error']:+.3f} % | {stepped:+.2f} % | "
+                     f"{100 * full['error']:+.3f} % | {time.perf_counter() - start:.1f} |")
+    for (dp, label), stepped in TIME_STEPPED_GATE.items():
+        start = time.perf_counter()
+        base = gate_loaded_deflection([f"numerics.spacing={dp!r}"])
+        full = gate_loaded_deflection([f"numerics.spacing={dp!r}"], volumetric_gradient=True)
+        lines.append(f"| Antoci's gate | {label} mm | {100 * base['error']:+.3f} % | {stepped:+.2f} % | "
+                     f"{100 * full['error']:+.3f} % | {time.perf_counter() - start:.1f} |")
     lines += ["", "## The default scheme's stable step", "",
               "The largest `solid.cfl` (dt = cfl h / c_dev, c_dev = sqrt(4 G / 3 rho): simulation.py) at which the "
               "default scheme's explicit part (the deviatoric stress and its gradient; the pressure is implicit) is "
