@@ -176,7 +176,7 @@ SOLID = [
        choices=("plain", "gradient")),
     _p("solid.volumetric_gradient", False, "",
        "With solid.nodal_integration = gradient: the volumetric part of each cell's strain gradient too (its energy "
-       "in full, not the deviator's only): the static plate 2.9x and the cantilever at L/H = 10 3-10x nearer FE at 4 "
+       "in full, not the deviator's only): the static plate 2.9x and the cantilever at L/H = 10 2.5-11x nearer FE at 4 "
        "particles through (docs/validation/linear_modes); the step shrinks with the bulk modulus (at nu = 0.49 "
        "2.4x more solid steps with the implicit pressure)", kind="bool"),
     _p("solid.fit_refresh_turn", 0.0, "1",

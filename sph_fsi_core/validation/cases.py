@@ -588,6 +588,14 @@ def _volumetric_gradient_rungs():
                       {"numerics.spacing": 0.005 / 3, **VOLUMETRIC}, end_time=0.4,
                       note="Antoci's gate under its water's exact pressure, 3 particles through, the default scheme "
                            "with solid.volumetric_gradient"))
+    # in motion, beside the default scheme's runs (solid_pressure/gate_default_*): how far the gates move with it
+    rungs.append(Rung("volumetric_gradient", "elastic_gate_dp1mm", "elastic_gate",
+                      {"numerics.spacing": 0.001, **VOLUMETRIC}, end_time=0.14,
+                      note="the paper's gate at its 1 mm, the default scheme with solid.volumetric_gradient"))
+    rungs.append(Rung("volumetric_gradient", "antoci_gate_dp1.67mm", "antoci_gate",
+                      {"numerics.spacing": 0.005 / 3, **VOLUMETRIC}, end_time=0.4,
+                      note="dp = 5/3 mm (3 particles through the gate); free end vs Antoci et al. 2007; the default "
+                           "scheme with solid.volumetric_gradient"))
     return rungs
 
 
