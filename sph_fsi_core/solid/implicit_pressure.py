@@ -37,6 +37,9 @@ from ..numerics.neighbours import chunk_first_target, unsigned
 # rows of the (6, N) scalar scratch and the (2, N, 3) vector scratch of the solve (SolidWork.pressure_scalars / _vectors)
 _X, _R, _Z, _D, _Q, _DIAG = range(6)
 _U_X, _U_D = range(2)
+# the row of SolidWork.pressure_vectors that holds, after a step, the velocity change its pressure gave (dt P M^-1
+# P^T D^T V p'): at rest it cancels the deviatoric and external half kicks (simulation.Simulation._relax)
+IMPULSE_ROW = _U_X
 # SolidWork.pressure_stats: steps solved, iterations summed, most iterations in one step, steps that hit the cap
 STEPS, ITERATIONS, MOST, CAPPED = range(4)
 
