@@ -269,7 +269,9 @@ class Simulation:
         fastest wave (solid/implicit_pressure.py); with the strain gradient's volumetric part (stepped explicitly)
         sqrt(c^2 + VOLUMETRIC_GRADIENT_WAVE K / rho) (its stiffness at the lattice's scale)."""
         c = deviatoric_wave_speed(shear, density) if pressure == "implicit" else c0
-        return math.sqrt(c * c + VOLUMETRIC_GRADIENT_WAVE * gradient_bulk_modulus / density)
+        if gradient_bulk_modulus > 0.0:
+            return math.sqrt(c * c + VOLUMETRIC_GRADIENT_WAVE * gradient_bulk_modulus / density)
+        return c
 
     def _fluid_settings(self, spec):
         """The fluid solver's settings from `spec`; SceneError if a forced fluid.time_step is above the stable limit."""
