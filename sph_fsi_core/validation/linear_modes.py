@@ -1,5 +1,5 @@
-"""A particle solid's small-strain stiffness assembled as a matrix, and its first bending mode: the accuracy of a
-solid scheme's discretisation on a beam, without time stepping.
+"""A particle solid's small-strain stiffness assembled as a matrix, its modes and its static answers: the accuracy
+of a solid scheme's discretisation, and its explicit step's stability limit, without time stepping.
 
 A nodal-integrated particle solid whose displacement gradient at particle a is a weighted sum over its neighbours,
 
@@ -11,7 +11,8 @@ eps_a = sym(grad u_a), C isotropic (E, nu). Its stiffness K = B^T (V C) B and lu
 vibration's frequencies from one generalised eigenproblem K phi = omega^2 M phi over the movable particles (a fixed
 clamp's particles keep u = 0 but their strain, which the body's motion sets, stores energy as they do in the
 time-stepped schemes). This is the frequency a scheme's time stepping converges to as the amplitude and the step go
-to zero (checked against the time-stepped quadratic_plain beam in test/test_linear_modes.py).
+to zero (checked against the time-stepped beams and plate in test/test_linear_modes.py); K u = f its settled answer
+under a static load.
 
 Operators (`weights`):
 - 'corrected_kernel': total-Lagrangian SPH (O'Connor & Rogers 2021, as in TrixiParticles, SPHinXsys and
@@ -21,15 +22,17 @@ Operators (`weights`):
   force alpha/2 V_a V_b W_ab / r^2 E delta n, delta = ((grad u_a + grad u_b) X_ab - 2 u_ab) . n, which is not the
   gradient of an energy, so K is then not symmetric.
 - 'quadratic_fit': the quadratic fit's gradient rows (solid/fitted_gradient.py's G_ab = V_b W_ab R_a p(u) / h), the
-  plain nodal sum: the project's `quadratic_plain` scheme at small strain.
-The strain-gradient integration of the default scheme (`quadratic_gradient`) keeps a stress gradient as state and
-is not assembled here.
+  plain nodal sum: the project's `quadratic_plain` scheme at small strain; with `nodal_integration` 'gradient' the
+  strain-gradient term from the fit's Hessian rows (solid/gradient_integration.py) and the mirrored clamp's ghosts
+  as a map from the body's displacements: the default scheme, `quadratic_gradient`.
 """
 import math
 
 import numpy as np
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..solid.gray2001 import material_constants
+from ..solid.implicit_pressure import deviatoric_wave_speed
 
 WEIGHTS = ("corrected_kernel", "quadratic_fit")
 
@@ -105,18 +108,26 @@ def quadratic_fit_hessian_weights(n, a, b, d, volume, h):
     return vw[:, None] * np.einsum("pij,pj->pi", minv[a, 3:, :], p) / h ** 2
 
 
-def gradient_operator(n, a, b, g):
-    """Sparse (9n x 3n): the displacement gradient grad u_a = sum_b (u_b - u_a) (x) G_ab of every particle, row
-    9 a + 3 i + j = d u_i / d X_j, from the displacements, column 3 c + i."""
+def pair_difference_operator(n, a, b, g):
+    """Sparse (3 C n x 3n): sum_b (u_b,i - u_a,i) g_ab[c] for every particle a, displacement component i and weight
+    column c of g (pairs, C), row 3 C a + C i + c, from the displacements, column 3 e + i. With the gradient
+    weights (C = 3) the displacement gradient d u_i / d X_j; with the Hessian weights (C = 6) d_j d_k u_i."""
     from scipy.sparse import coo_matrix
+    width = g.shape[1]
     rows, cols, vals = [], [], []
     for i in range(3):
-        for j in range(3):
-            rows += [9 * a + 3 * i + j, 9 * a + 3 * i + j]
+        for c in range(width):
+            rows += [3 * width * a + width * i + c] * 2
             cols += [3 * b + i, 3 * a + i]
-            vals += [g[:, j], -g[:, j]]
+            vals += [g[:, c], -g[:, c]]
     return coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(9 * n, 3 * n)).tocsr()
+                      shape=(3 * width * n, 3 * n)).tocsr()
+
+
+def gradient_operator(n, a, b, g):
+    """Sparse (9n x 3n): the displacement gradient grad u_a = sum_b (u_b - u_a) (x) G_ab of every particle, row
+    9 a + 3 i + j = d u_i / d X_j."""
+    return pair_difference_operator(n, a, b, g)
 
 
 def strain_operator(grad):
@@ -163,15 +174,7 @@ def strain_gradient_stiffness(n, a, b, gh, energy_volume, shear_modulus, cell_mo
     from the fitted Hessian, m = dp^2 / 12: only the deviatoric part, as the scheme; `bulk_modulus` K adds the
     volumetric one, m K / 2 sum_k (tr d_k eps_a)^2 per volume (not the scheme's: measured, docs/method.md)."""
     from scipy.sparse import coo_matrix, kron, diags
-    # the Hessian of every displacement component: rows 18 a + 6 i + jk
-    rows, cols, vals = [], [], []
-    for i in range(3):
-        for jk in range(6):
-            rows += [18 * a + 6 * i + jk, 18 * a + 6 * i + jk]
-            cols += [3 * b + i, 3 * a + i]
-            vals += [gh[:, jk], -gh[:, jk]]
-    hess = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                      shape=(18 * n, 3 * n)).tocsr()
+    hess = pair_difference_operator(n, a, b, gh)     # rows 18 a + 6 i + jk
     # d_k eps_ij in rows 18 a + 6 k + (ij), tensor components xx, yy, zz, xy, xz, yz
     rows, cols, vals = [], [], []
     for k in range(3):
@@ -230,8 +233,8 @@ def stiffness(pos, volume, h, young, nu, weights="corrected_kernel", hourglass_a
               deviatoric=False, period=None):
     """The assembled K (3n x 3n, sparse) of the particles at `pos` (their reference configuration). Particles where
     `stores_energy` is False (a mirrored clamp's ghosts) lend their positions to the fits but store no energy.
-    `volumetric_gradient`: the strain-gradient term's volumetric part too (not the scheme's); `deviatoric`: the
-    deviatoric stiffness only (what the implicit pressure leaves to the explicit steps)."""
+    `volumetric_gradient`: the strain-gradient term's volumetric part too (solid.volumetric_gradient, stepped
+    explicitly); `deviatoric`: without the local volumetric stiffness (what the implicit pressure solves for)."""
     n = len(pos)
     a, b, d = pairs(pos, h, period)
     make = {"corrected_kernel": corrected_kernel_weights, "quadratic_fit": quadratic_fit_weights}[weights]
@@ -242,8 +245,9 @@ def stiffness(pos, volume, h, young, nu, weights="corrected_kernel", hourglass_a
         if weights != "quadratic_fit":
             raise ValueError("the strain-gradient integration needs the quadratic fit's Hessian")
         gh = quadratic_fit_hessian_weights(n, a, b, d, volume, h)
-        bulk = young / (3.0 * (1.0 - 2.0 * nu)) if volumetric_gradient and not deviatoric else 0.0
-        k = k + strain_gradient_stiffness(n, a, b, gh, energy_volume, young / (2.0 * (1.0 + nu)), cell_moment, bulk)
+        bulk, shear, _ = material_constants(young, nu, 1.0)
+        k = k + strain_gradient_stiffness(n, a, b, gh, energy_volume, shear, cell_moment,
+                                          bulk if volumetric_gradient else 0.0)
     if hourglass_alpha > 0.0:
         k = k + hourglass_stiffness(grad, a, b, d, energy_volume, h, young, hourglass_alpha)
     return k
@@ -304,23 +308,24 @@ def first_bending_mode(freqs, shapes, mass, axis=2, fraction=0.3):
     raise ValueError(f"no mode among the lowest {len(freqs)} moves the body along axis {axis}")
 
 
-def _cantilever(overrides, clamp):
-    """(values, built) of the cantilever scene with `clamp`."""
+def _built(scene, overrides, clamp):
+    """(values, built) of a scene with solid.clamp = `clamp`."""
     from ..scene import load_scene
-    from ..scenes import cantilever
-    values = load_scene("cantilever", [f"solid.clamp={clamp}", *overrides]).values
-    return values, cantilever.build(values)
+    from ..scenes import BUILDERS
+    values = load_scene(scene, [f"solid.clamp={clamp}", *overrides]).values
+    return values, BUILDERS[scene].build(values)
 
 
-def _cantilever_stiffness(values, built, clamp, **kw):
-    """(K, clamp_map) of the built beam (mirrored: the ghosts store no energy and follow their images)."""
+def _built_stiffness(values, built, clamp, **kw):
+    """(K, clamp_map) of a built scene's solid (its periodic slab's pairs across the period); mirrored: the ghosts
+    store no energy and follow their images, fixed: the clamp's particles stay at rest."""
     solid = built.solid
     dp = values["numerics.spacing"]
     mirrored = clamp == "mirrored"
     k = stiffness(solid.pos, solid.mass / solid.rho, values["numerics.smoothing_ratio"] * dp,
                   values["solid.young_modulus"], values["solid.poisson_ratio"], cell_moment=dp * dp / 12.0,
-                  stores_energy=solid.movable if mirrored else None, **kw)
-    return k, (mirrored_clamp_map(built.clamp_mirror, solid.movable) if mirrored else None)
+                  stores_energy=solid.movable if mirrored else None, period=built.period, **kw)
+    return k, (mirrored_clamp_map(built.clamp_mirror, solid.movable) if mirrored else _movable_map(solid.movable))
 
 
 def cantilever_frequency(overrides=(), weights="corrected_kernel", hourglass_alpha=0.0, count=12,
@@ -330,9 +335,9 @@ def cantilever_frequency(overrides=(), weights="corrected_kernel", hourglass_alp
     geometry.clamp_margin) or mirrored (the ghosts following their images, storing none); `nodal_integration`
     gradient adds the strain-gradient term (with the quadratic fit): the default scheme, quadratic_gradient."""
     from .references import cantilever_references
-    v, built = _cantilever(overrides, clamp)
+    v, built = _built("cantilever", overrides, clamp)
     solid = built.solid
-    k, clamp_map = _cantilever_stiffness(v, built, clamp, weights=weights, hourglass_alpha=hourglass_alpha,
+    k, clamp_map = _built_stiffness(v, built, clamp, weights=weights, hourglass_alpha=hourglass_alpha,
                                          nodal_integration=nodal_integration,
                                          volumetric_gradient=volumetric_gradient)
     refs = cantilever_references(v["geometry.length"], v["geometry.thickness"], v["geometry.width"],
@@ -362,27 +367,17 @@ def default_scheme_stable_cfl(overrides=(), volumetric_gradient=False):
     the pressure is implicit) is linearly stable on the cantilever scene's beam at rest: the step dt = cfl h / c_dev
     (simulation.py, c_dev = sqrt(4 G / 3 rho)) against leapfrog's 2 / omega_max. `volumetric_gradient`: with the
     strain gradient's volumetric part too, which is stepped explicitly (solid.volumetric_gradient)."""
-    v, built = _cantilever(overrides, "mirrored")
-    k, clamp_map = _cantilever_stiffness(v, built, "mirrored", weights="quadratic_fit", nodal_integration="gradient",
-                                         deviatoric=True)
-    if volumetric_gradient:
-        solid = built.solid
-        dp = v["numerics.spacing"]
-        h = v["numerics.smoothing_ratio"] * dp
-        n = len(solid.pos)
-        a, b, d = pairs(solid.pos, h)
-        volume = solid.mass / solid.rho
-        gh = quadratic_fit_hessian_weights(n, a, b, d, volume, h)
-        nu, young = v["solid.poisson_ratio"], v["solid.young_modulus"]
-        shear, bulk = young / (2.0 * (1.0 + nu)), young / (3.0 * (1.0 - 2.0 * nu))
-        energy_volume = volume * solid.movable
-        k = k + (strain_gradient_stiffness(n, a, b, gh, energy_volume, shear, dp * dp / 12.0, bulk)
-                 - strain_gradient_stiffness(n, a, b, gh, energy_volume, shear, dp * dp / 12.0))
+    v, built = _built("cantilever", overrides, "mirrored")
+    k, clamp_map = _built_stiffness(v, built, "mirrored", weights="quadratic_fit", nodal_integration="gradient",
+                                    deviatoric=True, volumetric_gradient=volumetric_gradient)
     omega = highest_frequency(k, built.solid.mass, built.solid.movable, clamp_map)
-    shear = v["solid.young_modulus"] / (2.0 * (1.0 + v["solid.poisson_ratio"]))
-    c_dev = math.sqrt(4.0 * shear / (3.0 * v["solid.density"]))
-    h = v["numerics.smoothing_ratio"] * v["numerics.spacing"]
-    return 2.0 / omega * c_dev / h
+    return 2.0 / omega * _deviatoric_wave(v) / (v["numerics.smoothing_ratio"] * v["numerics.spacing"])
+
+
+def _deviatoric_wave(values):
+    """c_dev = sqrt(4 G / 3 rho), the wave speed the default scheme's step is set by (simulation.py)."""
+    _, shear, _ = material_constants(values["solid.young_modulus"], values["solid.poisson_ratio"], 1.0)
+    return deviatoric_wave_speed(shear, values["solid.density"])
 
 
 def static_displacement(scene, overrides=(), volumetric_gradient=False, weights="quadratic_fit",
@@ -391,18 +386,10 @@ def static_displacement(scene, overrides=(), volumetric_gradient=False, weights=
     `solid_load` and its own weight on the movable particles (a periodic slab's pairs across its period). The
     default: the default scheme (the quadratic fit, the strain-gradient term, the mirrored clamp)."""
     from scipy.sparse.linalg import spsolve
-    from ..scene import load_scene
-    from ..scenes import BUILDERS
-    v = load_scene(scene, [f"solid.clamp={clamp}", *overrides]).values
-    built = BUILDERS[scene].build(v)
+    v, built = _built(scene, overrides, clamp)
     solid = built.solid
-    dp = v["numerics.spacing"]
-    mirrored = clamp == "mirrored"
-    k = stiffness(solid.pos, solid.mass / solid.rho, v["numerics.smoothing_ratio"] * dp, v["solid.young_modulus"],
-                  v["solid.poisson_ratio"], weights, 0.0, nodal_integration, dp * dp / 12.0,
-                  solid.movable if mirrored else None, volumetric_gradient, period=built.period)
-    clamp_map = (mirrored_clamp_map(built.clamp_mirror, solid.movable) if mirrored else
-                 _movable_map(solid.movable))
+    k, clamp_map = _built_stiffness(v, built, clamp, weights=weights, nodal_integration=nodal_integration,
+                                    volumetric_gradient=volumetric_gradient)
     force = built.solid_load + solid.mass[:, None] * np.asarray(v["scene.gravity"])[None, :]
     force[~solid.movable] = 0.0
     u = clamp_map @ spsolve((clamp_map.T @ k @ clamp_map).tocsc(), clamp_map.T @ force.ravel())
@@ -456,15 +443,13 @@ def implicit_step_iterations(step_ratios, overrides=(), tolerance=1e-4, seed=0):
     fluid's would cost in stiffness applications, against `ratio` explicit steps of one each."""
     from scipy.sparse import diags
     from scipy.sparse.linalg import cg
-    v, built = _cantilever(overrides, "mirrored")
+    v, built = _built("cantilever", overrides, "mirrored")
     solid = built.solid
-    k, clamp_map = _cantilever_stiffness(v, built, "mirrored", weights="quadratic_fit", nodal_integration="gradient",
+    k, clamp_map = _built_stiffness(v, built, "mirrored", weights="quadratic_fit", nodal_integration="gradient",
                                          deviatoric=True)
     kk = (clamp_map.T @ k @ clamp_map).tocsr()
     m = np.repeat(solid.mass[solid.movable], 3)
-    shear = v["solid.young_modulus"] / (2.0 * (1.0 + v["solid.poisson_ratio"]))
-    dt0 = 0.25 * v["numerics.smoothing_ratio"] * v["numerics.spacing"] / math.sqrt(4.0 * shear /
-                                                                                 (3.0 * v["solid.density"]))
+    dt0 = 0.25 * v["numerics.smoothing_ratio"] * v["numerics.spacing"] / _deviatoric_wave(v)
     x = np.random.default_rng(seed).normal(size=len(m))
     out = {}
     for ratio in step_ratios:

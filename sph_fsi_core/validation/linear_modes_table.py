@@ -51,7 +51,7 @@ def _default_scheme_error(nu, ratio):
 
 
 def report():
-    lines = ["# The cantilever from assembled stiffness matrices", "",
+    lines = ["# A solid's stiffness assembled: beams, static plates and gates, the stable step", "",
              "Made by `python -m sph_fsi_core.validation.linear_modes_table --out docs/validation/linear_modes`. "
              "Each row assembles a particle solid's small-strain stiffness K = B^T (V C) B on the beam as built "
              "(the cantilever scene, its clamp's particles fixed) and solves K phi = omega^2 M phi for its lowest "
