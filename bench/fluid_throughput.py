@@ -17,9 +17,10 @@ import time
 # GNU OpenMP threads spin between parallel regions; the correction loop runs four regions per iteration. On a
 # shared machine (load above the core count) spinning threads that lose their core stall every region (measured
 # 0.10 M particle-iterations/s spinning against 0.48 passive at load 4.3 on 2 cores), but on a quiet one passive
-# waiting costs the tank at 10^5 particles 1.7x (session 11, both code versions): the benchmark measures what the
-# command line and the node run, with the policy left unset; `OMP_WAIT_POLICY=PASSIVE python -m bench...` for a
-# loaded machine. The table records the policy.
+# waiting costs the tank at 10^5 particles 1.7x (session 11, both code versions). Since 2026-12-05 sph_fsi_core
+# shortens the spin to 1000 (GOMP_SPINCOUNT, its __init__.py): as fast as the default on a quiet host, 3x faster
+# than it on this dam break with one other busy process. The benchmark measures what the command line and the node
+# run; the table records the policy and the spin count.
 
 import numba  # noqa: E402
 
@@ -58,7 +59,7 @@ def measure(case, size, min_seconds=10.0):
             "neighbour_builds": sim.fluid_solver.builds - builds0,
             "particle_iterations_per_second": n * its / elapsed, "particle_steps_per_second": n * steps / elapsed,
             "threads": numba.get_num_threads(), "load_average": os.getloadavg()[0],
-            "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY", "")}
+            "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY", ""), "gomp_spincount": os.environ.get("GOMP_SPINCOUNT", "")}
 
 
 def main(argv=None):

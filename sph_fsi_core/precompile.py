@@ -1,16 +1,22 @@
 """Compile a coupled scene's kernels in two processes at once when Numba's on-disk cache is cold.
 
-A cold run of the paper's gate compiles for about two and a half minutes in one process (docs/performance/BENCH.md,
-"Compile time"): about 55 % of it the solid's passes and 35 % the fluid's, which share nothing but the neighbour
-search (about 6 %), the coupling 3 %. Numba keeps each compiled function in its cache whichever process compiled
-it, and a function compiles once per argument types, not per value. So two processes on two cores, one taking a
-step of a small beam with the scene's own solid scheme (the settings that select compiled code: the scheme's keys
-and the artificial stress's exponent), the other a step of the small dam break (the same fluid passes: a slab
-periodic along y), fill the cache with both halves at once, and the run then compiles only the coupling.
+A cold run of the paper's gate compiles for about two minutes in one process (docs/performance/BENCH.md, "Compile
+time"): about 60 % of it the solid's passes and 40 % the fluid's, which share nothing but the neighbour search, the
+coupling a few per cent. Numba keeps each compiled function in its cache whichever process compiled it, and a
+function compiles once per argument types, not per value. So two processes on two cores fill the cache with both
+halves at once, and the run then compiles only the coupling:
+- the solid's part compiles the scheme's driver (the leapfrog and every pass it calls: about half of all the
+  compiling) for the argument types a run of the small beam passes it, from the beam's arrays as allocated
+  (Simulation.allocated), running no kernel (the settings that select compiled code: the scheme's keys and the
+  artificial stress's exponent, SOLID_CODE_KEYS);
+- the fluid's part takes a step of the small dam break (the same fluid passes: a slab periodic along y), then a step
+  of the same small beam: its neighbour list and fit (the solid's build), whose driver the other part has cached by
+  then. Split so, the two parts take about the same time (each alone about 45 s on this host).
 
-`python -m sph_fsi_core.precompile SCENE OVERRIDES_JSON` is one such process (build, one outer step, no output).
+`python -m sph_fsi_core.precompile TASKS_JSON` is one such process: [[how, scene, {key: value}], ...] in order, `how`
+"driver" (compile_driver) or "step" (warm_up).
 
-compile_scene does all of a scene's compiling ahead of its run: the two halves so, then the rest (the coupling, the
+compile_scene does all of a scene's compiling ahead of its run: the two parts so, then the rest (the coupling, the
 water's settling) by building the scene itself and taking one outer step. `sph-fsi compile` calls it, and `make
 install` with the main job, so that the first `make run` after an install starts stepping at once.
 """
@@ -19,6 +25,8 @@ import os
 import subprocess
 import sys
 import time
+
+from typing import NamedTuple
 
 from .numerics.jit_cache import fitted_solid, kernels_cached
 from .solid.schemes import SCHEME_KEYS
@@ -32,19 +40,25 @@ WARM_UP_TIMEOUT_S = 1800.0
 SWITCH_ENV = "SPH_FSI_PARALLEL_COMPILE"
 
 
+class Part(NamedTuple):
+    """One compiling process: the half of the kernels it is for ("solid" or "fluid", the cache's test) and its
+    tasks in order, each (how, scene, {key: value}) with `how` "driver" (compile_driver) or "step" (warm_up)."""
+    half: str
+    tasks: list
+
+
 def warm_up_parts(spec):
-    """The warm-up runs for a scene (scene.SceneSpec): [(scene, {key: value})], one per process; empty unless the
-    scene has both a solid and a fluid (one part alone compiles no faster in a process of its own)."""
+    """The compiling processes for a scene (scene.SceneSpec), as Parts (the module docstring); empty unless the
+    scene has both a solid and a fluid (one half alone compiles no faster in a process of its own)."""
     if not ("solid" in spec.phases and "fluid" in spec.phases):
         return []
-    return [(SOLID_WARM_UP_SCENE, {key: spec[key] for key in SOLID_CODE_KEYS}), (FLUID_WARM_UP_SCENE, {})]
+    beam = (SOLID_WARM_UP_SCENE, {key: spec[key] for key in SOLID_CODE_KEYS})
+    return [Part("solid", [("driver",) + beam]), Part("fluid", [("step", FLUID_WARM_UP_SCENE, {}), ("step",) + beam])]
 
 
 def uncached_parts(spec):
     """warm_up_parts whose half of the kernels is not in the cache yet (its entry kernel: numerics/jit_cache.py)."""
-    phases = {SOLID_WARM_UP_SCENE: ("solid",), FLUID_WARM_UP_SCENE: ("fluid",)}
-    return [(scene, overrides) for scene, overrides in warm_up_parts(spec)
-            if kernels_cached(phases[scene], fitted_solid(spec)) is not True]
+    return [part for part in warm_up_parts(spec) if kernels_cached((part.half,), fitted_solid(spec)) is not True]
 
 
 def compile_in_parallel(spec, cpus=None, parts=None, tick=None, tick_interval_s=15.0):
@@ -59,19 +73,19 @@ def compile_in_parallel(spec, cpus=None, parts=None, tick=None, tick_interval_s=
         return None
     env = dict(os.environ, NUMBA_NUM_THREADS="1")
     started = time.perf_counter()
-    procs = [(scene, subprocess.Popen([sys.executable, "-m", "sph_fsi_core.precompile", scene, json.dumps(overrides)],
-                                      env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True))
-             for scene, overrides in parts]
+    procs = [(f"the {part.half}'s part", subprocess.Popen(
+        [sys.executable, "-m", "sph_fsi_core.precompile", json.dumps(part.tasks)], env=env,
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)) for part in parts]
     failures = []
     deadline = started + WARM_UP_TIMEOUT_S
     try:
-        for scene, proc in procs:
+        for name, proc in procs:
             err = _wait(proc, deadline, tick, tick_interval_s, started)
             if err is None:
-                failures.append(f"{scene}: still compiling after {WARM_UP_TIMEOUT_S:.0f} s, stopped")
+                failures.append(f"{name}: still compiling after {WARM_UP_TIMEOUT_S:.0f} s, stopped")
             elif proc.returncode != 0:
                 last = (err.strip().splitlines() or ["no message"])[-1]
-                failures.append(f"{scene}: exit status {proc.returncode}: {last}")
+                failures.append(f"{name}: exit status {proc.returncode}: {last}")
     finally:   # stopped (a signal, an error): no process is left compiling behind the run
         for _, proc in procs:
             if proc.poll() is None:
@@ -131,5 +145,26 @@ def warm_up(scene, overrides):
     Simulation(load_scene(scene, list(overrides.items()))).step()
 
 
+def compile_driver(scene, overrides):
+    """Compile (and cache) the solid scheme's driver of `scene` with `overrides`, and so every pass it calls, for the
+    argument types a run passes it (Simulation.leapfrog_arguments of its arrays as allocated), running no kernel;
+    returns the signature."""
+    import numba
+    from .scene import load_scene
+    from .simulation import Simulation
+    from .solid.stepper import solid_drivers
+    sim = Simulation.allocated(load_scene(scene, list(overrides.items())))
+    signature = tuple(numba.typeof(value) for value in sim.leapfrog_arguments(1, False, 0.0))
+    solid_drivers(sim.solid_params)[0].compile(signature)
+    return signature
+
+
+def run_tasks(tasks):
+    """A compiling process's tasks in order (Part.tasks)."""
+    how = {"driver": compile_driver, "step": warm_up}
+    for kind, scene, overrides in tasks:
+        how[kind](scene, overrides)
+
+
 if __name__ == "__main__":
-    warm_up(sys.argv[1], json.loads(sys.argv[2]))
+    run_tasks(json.loads(sys.argv[1]))

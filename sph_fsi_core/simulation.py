@@ -70,8 +70,20 @@ class Simulation:
         self.builder = BUILDERS[state["builder"]]
         start_parallel_runtime()     # a restored run's first kernel is a cached caller of parallel ones
 
+    @classmethod
+    def allocated(cls, spec: SceneSpec):
+        """The scene's particles and its solid's arrays as a run allocates them, before any kernel runs (no
+        neighbour list, fit or force yet; no fluid): what compiling the solid's driver ahead of a run needs, its
+        arguments' types (precompile.py). Not a simulation to step."""
+        sim = cls.__new__(cls)
+        sim.spec, sim.builder, sim._pending = spec, BUILDERS[spec.builder], {}
+        sim._build(start=False)
+        return sim
+
     # ---- construction -------------------------------------------------------------------------------------
-    def _build(self):
+    def _build(self, start=True):
+        """The scene's particles, the solid's arrays and (unless not `start`, for `allocated`) everything the
+        first step needs: the solid's list, fit and forces, the fluid's solver, the coupling and the settling."""
         v = self.spec.values
         built = self.builder.build(v)
         check_layout(built, v["numerics.spacing"])
@@ -111,6 +123,9 @@ class Simulation:
                                                   v["numerics.neighbour_skin"] * self.h, period=self.period,
                                                   box_lo=built.domain_lo, box_hi=built.domain_hi, half=True)
             self._apply_solid_settings()
+        if not start:
+            return
+        if self.solid is not None:
             self._rebuild_solid_neighbours()
             self._warn_if_quadratic_fit_falls_back()
             self._warn_about_artificial_stress()
@@ -539,6 +554,12 @@ class Simulation:
         if self.fluid_damping_rate > 0.0:
             self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
 
+    def leapfrog_arguments(self, n, force_first, dt, ext_acc=_NO_EXTERNAL, state=None):
+        """The arguments of the solid scheme's driver (solid_drivers(solid_params)[0]) for `n` steps of `dt`."""
+        state = SolidArrays.of(self.solid) if state is None else state
+        return (n, force_first, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period), self.solid_params,
+                self.solid_work.buffers(), ext_acc, self.clamp_mirror)
+
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
         wk, state = self.solid_work, SolidArrays.of(self.solid)
         leapfrog = solid_drivers(self.solid_params)[0]
@@ -546,8 +567,7 @@ class Simulation:
         capped = int(wk.pressure_stats[3])
         while done < n:
             # the list's arrays and the pair cache are replaced by a rebuild or refit: taken anew each call
-            k = leapfrog(n - done, force, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period),
-                         self.solid_params, wk.buffers(), ext_acc, self.clamp_mirror)
+            k = leapfrog(*self.leapfrog_arguments(n - done, force, dt, ext_acc, state))
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid(pair_weights=not (self.solid_params.implicit_pressure

@@ -1,4 +1,5 @@
-"""sph_fsi_core/precompile.py: a coupled scene's solid and fluid kernels compiled in two processes at once."""
+"""sph_fsi_core/precompile.py: a coupled scene's kernels compiled in two processes at once (the solid's driver; the
+fluid's passes and the solid's build)."""
 import subprocess
 import sys
 import time
@@ -11,17 +12,43 @@ from sph_fsi_core.scene import load_scene
 
 @pytest.mark.parametrize("scheme", ["quadratic_gradient", "gray2001", "quadratic_plain_artificial_stress"])
 def test_the_solid_warm_up_runs_the_scenes_own_solid_code(scheme):
-    """A coupled scene gets two parts: the small beam with the scene's code-selecting solid values (so it compiles the
-    driver and pair variant the scene runs, not the beam's own scheme) and the dam break's fluid."""
+    """A coupled scene gets two parts: the solid's driver compiled for the small beam with the scene's code-selecting
+    solid values (so the driver and pair variant the scene runs, not the beam's own scheme), and the dam break's
+    fluid followed by a step of the same beam (its list and fit; the driver cached by then)."""
     gate = load_scene("elastic_gate", [f"solid.scheme={scheme}"])
     parts = precompile.warm_up_parts(gate)
-    assert [scene for scene, _ in parts] == ["cantilever", "dam_break"]
-    solid_overrides = parts[0][1]
+    assert [part.half for part in parts] == ["solid", "fluid"]
+    assert [task[:2] for task in parts[0].tasks] == [("driver", "cantilever")]
+    assert [task[:2] for task in parts[1].tasks] == [("step", "dam_break"), ("step", "cantilever")]
+    solid_overrides = parts[0].tasks[0][2]
+    assert parts[1].tasks[1][2] == solid_overrides
     assert set(solid_overrides) == set(precompile.SOLID_CODE_KEYS)
     beam = load_scene("cantilever", list(solid_overrides.items()))
     assert {k: beam[k] for k in precompile.SOLID_CODE_KEYS} == {k: gate[k] for k in precompile.SOLID_CODE_KEYS}
-    fluid = load_scene(*parts[1])
+    fluid = load_scene(*parts[1].tasks[0][1:])
     assert "fluid" in fluid.phases and "solid" not in fluid.phases
+
+
+@pytest.mark.parametrize("scheme", ["quadratic_gradient", "gray2001"])
+def test_the_driver_compiled_ahead_is_the_one_the_runs_call(scheme):
+    """compile_driver's signature, from the beam's arrays as allocated (no kernel run), is the one the beam's own
+    steps and the coupled gate's (the fluid's push as ext_acc) call: neither compiles another specialisation. A
+    mismatch would cost a cold install the whole driver's compile twice."""
+    from sph_fsi_core.simulation import Simulation
+    from sph_fsi_core.solid.stepper import solid_drivers
+    gate = load_scene("elastic_gate", [f"solid.scheme={scheme}", "numerics.spacing=0.001333",
+                                       "geometry.water_height=0.02"])
+    _, scene, overrides = precompile.warm_up_parts(gate)[0].tasks[0]
+    signature = precompile.compile_driver(scene, overrides)
+    beam = Simulation(load_scene(scene, list(overrides.items())))
+    driver = solid_drivers(beam.solid_params)[0]
+    compiled = list(driver.signatures)
+    assert signature in compiled
+    beam.step()
+    coupled = Simulation(gate)
+    coupled.step()
+    assert coupled.solid_steps > 0 and solid_drivers(coupled.solid_params)[0] is driver
+    assert driver.signatures == compiled
 
 
 @pytest.mark.parametrize("scene", ["cantilever", "dam_break", "hydrostatic"])
@@ -46,24 +73,26 @@ def test_only_the_halves_not_cached_yet_are_compiled(monkeypatch):
     """A half whose entry kernel is cached is left out; with one half left there is nothing to run side by side."""
     gate = load_scene("elastic_gate")
     monkeypatch.setattr(precompile, "kernels_cached", lambda phases, fitted=True: "solid" in phases)
-    assert [scene for scene, _ in precompile.uncached_parts(gate)] == ["dam_break"]
+    assert [part.half for part in precompile.uncached_parts(gate)] == ["fluid"]
     monkeypatch.setattr(subprocess, "Popen", _no_process)
     assert precompile.compile_in_parallel(gate, cpus=2) is None
     monkeypatch.setattr(precompile, "kernels_cached", lambda phases, fitted=True: False)
-    assert [scene for scene, _ in precompile.uncached_parts(gate)] == ["cantilever", "dam_break"]
+    assert [part.half for part in precompile.uncached_parts(gate)] == ["solid", "fluid"]
     monkeypatch.setattr(precompile, "kernels_cached", lambda phases, fitted=True: None)   # cannot tell: compile
     assert len(precompile.uncached_parts(gate)) == 2
 
 
 def test_a_failed_part_is_named_and_the_run_goes_on(monkeypatch):
-    """Two real processes that fail at once (unknown scenes): each failure comes back as one line naming its scene
+    """Two real processes that fail at once (unknown scenes): each failure comes back as one line naming its part
     and the error, and compile_cold_scene warns with it instead of raising."""
-    monkeypatch.setattr(precompile, "uncached_parts", lambda spec: [("no_such_scene_a", {}), ("no_such_scene_b", {})])
+    parts = [precompile.Part("solid", [("driver", "no_such_scene_a", {})]),
+             precompile.Part("fluid", [("step", "no_such_scene_b", {})])]
+    monkeypatch.setattr(precompile, "uncached_parts", lambda spec: parts)
     seconds, failures = precompile.compile_in_parallel(load_scene("elastic_gate"), cpus=2)
     assert seconds > 0.0
     assert len(failures) == 2
-    assert failures[0].startswith("no_such_scene_a: exit status 1: ") and "no_such_scene_a" in failures[0][20:]
-    assert failures[1].startswith("no_such_scene_b: exit status 1: ")
+    assert failures[0].startswith("the solid's part: exit status 1: ") and "no_such_scene_a" in failures[0]
+    assert failures[1].startswith("the fluid's part: exit status 1: ") and "no_such_scene_b" in failures[1]
     said, warned = [], []
     precompile.compile_cold_scene(load_scene("elastic_gate"), said.append, warned.append)
     assert len(said) == 1 and "two processes" in said[0]

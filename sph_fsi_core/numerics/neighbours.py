@@ -316,7 +316,7 @@ class NeighbourList:
         self.start = np.zeros(1, dtype=np.int64)
         self.index = np.zeros(0, dtype=INDEX_DTYPE)
         self.builds = 0
-        self.targets_at_build = None
+        self.targets_at_build = np.zeros((0, 3))   # typed as after a build (the drivers' arguments), stale
         self._sources_at_build = None
         self.crossing = np.zeros(0, dtype=np.bool_)
         # 10 % more than the skin, so that round-off in the staleness test cannot matter
@@ -349,7 +349,7 @@ class NeighbourList:
 
     def is_stale(self, targets, sources):
         """True once some target or source has moved more than half the skin since the last build."""
-        if self.targets_at_build is None or len(targets) != len(self.targets_at_build):
+        if self.builds == 0 or len(targets) != len(self.targets_at_build):
             return True
         moved = max_displacement(targets, self.targets_at_build)
         if self._sources_at_build is not None:
