@@ -220,15 +220,34 @@ def node(peer, tmp_path_factory):
     proc = NodeProcess(DOMAIN, params, params_file=_params_file(tmp_path_factory.mktemp("node")))
     proc.run_log = run_log
     try:
-        peer.wait_for("/clock", timeout=FIRST_CLOCK_TIMEOUT)
-    except AssertionError:
+        _wait_for_first_clock(peer)
+    except AssertionError as exc:
         proc.stop()
-        raise AssertionError("the node published no /clock; its stderr:\n" + proc.stderr())
+        raise AssertionError(f"{exc}; the node's stderr:\n" + proc.stderr())
     yield proc
     code = proc.stop()
     err = proc.stderr()
     assert code == 0, err
     assert "terminate called" not in err and "Traceback" not in err, err
+
+
+def _wait_for_first_clock(peer):
+    """The module node's first /clock. Its run (0.05 s simulated) can end before discovery has matched this process's
+    subscription, and then no /clock comes (seen once on a loaded host): once the node's 1 s diagnostics say the run
+    is at its end with no /clock heard, ~/reset runs it again, matched now."""
+    deadline = time.monotonic() + FIRST_CLOCK_TIMEOUT
+    while time.monotonic() < deadline:
+        if peer.count("/clock"):
+            return
+        ended = [v for _, _, v in peer.diagnostics()
+                 if "end_time" in v and float(v["sim_time"]) >= float(v["end_time"]) * (1.0 - 1e-9)]
+        if ended:
+            response, _ = peer.call(peer.reset, Trigger.Request())
+            assert response.success, response.message
+            peer.wait_for("/clock", timeout=max(deadline - time.monotonic(), 1.0))
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"the node published no /clock within {FIRST_CLOCK_TIMEOUT:.0f} s")
 
 
 def _run_log_summaries(node):
