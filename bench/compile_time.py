@@ -1,4 +1,4 @@
-"""The cold compile of a coupled scene, in the run's process alone against the two halves in two processes at once
+"""The cold compile of a coupled scene, in the run's process alone against its kernels compiled in two processes at once
 (sph_fsi_core/precompile.py): `python -m bench.compile_time [--scene elastic_gate] [--rounds 1]`.
 
 Each measurement is a fresh `sph-fsi run SCENE --end-time T` with an empty NUMBA_CACHE_DIR of its own (so nothing is

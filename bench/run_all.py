@@ -6,7 +6,7 @@ from pathlib import Path
 
 from sph_fsi_core.run import machine_info
 
-from . import compile_time, fluid_throughput, main_job, publishing_cost, recording_cost, solid_throughput
+from . import compile_time, fluid_throughput, main_job, publishing_cost, recording_cost, shared_host, solid_throughput
 
 
 def main(argv=None):
@@ -62,6 +62,8 @@ def main(argv=None):
     lines += ["", "## Publishing cost (the node's frame)", "", publishing_cost.markdown(pub)]
     compiled = compile_time.main([])
     lines += ["", "## Compile time (a cold cache)", "", compile_time.markdown(compiled)]
+    shared = shared_host.main([])
+    lines += ["", "## A shared host (GNU OpenMP's spin)", "", shared_host.markdown(shared)]
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text("\n".join(lines) + "\n")
