@@ -1,6 +1,6 @@
 # sph_fsi: build, run and test from a local virtual environment.
 #   make run       create .venv, install everything pinned and compile the main job's kernels into Numba's cache
-#                  (about a minute and a half, once: `sph-fsi compile`), run the ROS 2 node on the paper's elastic
+#                  (about a minute, once: `sph-fsi compile`), run the ROS 2 node on the paper's elastic
 #                  gate at the paper's 1 mm (the default scheme: about 3 minutes on 2 cores; a progress line every
 #                  10 s),
 #                  recording MCAP + Rerun into runs/, its summary and time series into runs/elastic_gate/, exit at

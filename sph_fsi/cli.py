@@ -235,7 +235,7 @@ def _cmd_compile(args):
         print(f"sph-fsi: {line}", file=sys.stderr, flush=True)
 
     if scene_kernels_cached(spec) is not True:
-        say(f"compiling the kernels of '{spec.name}' into Numba's cache, once (about a minute and a half on 2 "
+        say(f"compiling the kernels of '{spec.name}' into Numba's cache, once (about a minute on 2 "
             f"cores; its runs then start stepping at once)")
     seconds = compile_scene(spec, say, lambda line: say(f"warning: {line}"))
     say(f"'{spec.name}' compiled and cached ({seconds:.0f} s)")
