@@ -554,20 +554,19 @@ class Simulation:
         if self.fluid_damping_rate > 0.0:
             self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
 
-    def leapfrog_arguments(self, n, force_first, dt, ext_acc=_NO_EXTERNAL, state=None):
-        """The arguments of the solid scheme's driver (solid_drivers(solid_params)[0]) for `n` steps of `dt`."""
-        state = SolidArrays.of(self.solid) if state is None else state
-        return (n, force_first, dt, state, SolidNeighbours.of(self.solid_neighbours, self.period), self.solid_params,
-                self.solid_work.buffers(), ext_acc, self.clamp_mirror)
+    def leapfrog_arguments(self, n, force_first, dt, ext_acc=_NO_EXTERNAL):
+        """The arguments of the solid scheme's driver (solid_drivers(solid_params)[0]) for `n` steps of `dt`, as
+        they are now (a rebuild or refit replaces the list's arrays and the pair cache)."""
+        return (n, force_first, dt, SolidArrays.of(self.solid), SolidNeighbours.of(self.solid_neighbours, self.period),
+                self.solid_params, self.solid_work.buffers(), ext_acc, self.clamp_mirror)
 
     def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
-        wk, state = self.solid_work, SolidArrays.of(self.solid)
+        wk = self.solid_work
         leapfrog = solid_drivers(self.solid_params)[0]
         done, force = 0, False
         capped = int(wk.pressure_stats[3])
         while done < n:
-            # the list's arrays and the pair cache are replaced by a rebuild or refit: taken anew each call
-            k = leapfrog(*self.leapfrog_arguments(n - done, force, dt, ext_acc, state))
+            k = leapfrog(*self.leapfrog_arguments(n - done, force, dt, ext_acc))
             done += k
             if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
                 self._refit_solid(pair_weights=not (self.solid_params.implicit_pressure
