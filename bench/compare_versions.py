@@ -8,7 +8,8 @@ directory as the package `ref_core`, so both versions import side by side. Both 
 scene and overrides; `--steps` outer steps later their positions, velocities and densities are compared (bitwise, or
 the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's 2-core VM a
 process can run at half speed for its whole life (docs/performance/BENCH.md), so code versions are compared only
-within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it.
+within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it; this
+checkout's is its own source-keyed one (sph_fsi_core/numerics/jit_cache.py).
 """
 import argparse
 import importlib
@@ -21,6 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
+import sph_fsi_core  # noqa: F401  (first: this checkout's Numba cache is set up before the copy's kernels exist)
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -32,6 +35,20 @@ def export(ref, into):
         tar.extractall(into, filter="data")
     (into / "sph_fsi_core").rename(into / "ref_core")
     return into
+
+
+def import_version(package, module, cache_dir):
+    """Import `package.module`; with `cache_dir`, the kernels it defines cache there (Numba picks a kernel's cache
+    directory when the kernel is defined), not in this checkout's cache."""
+    if cache_dir is None:
+        return importlib.import_module(f"{package}.{module}")
+    from numba.core import config
+    before = config.CACHE_DIR
+    config.CACHE_DIR = str(cache_dir)
+    try:
+        return importlib.import_module(f"{package}.{module}")
+    finally:
+        config.CACHE_DIR = before
 
 
 def state(sim):
@@ -60,9 +77,10 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         sys.path.insert(0, str(export(args.ref, Path(tmp))))
         versions = {}
-        for name, package in ((args.ref, "ref_core"), ("this checkout", "sph_fsi_core")):
-            scene = importlib.import_module(f"{package}.scene")
-            simulation = importlib.import_module(f"{package}.simulation")
+        versions_to_load = ((args.ref, "ref_core", Path(tmp) / "numba"), ("this checkout", "sph_fsi_core", None))
+        for name, package, cache in versions_to_load:
+            scene = import_version(package, "scene", cache)
+            simulation = import_version(package, "simulation", cache)
             spec = scene.load_scene(args.scene, args.overrides + ["output.snapshot_interval=0"])
             versions[name] = simulation.Simulation(spec)
         for sim in versions.values():

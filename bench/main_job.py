@@ -13,7 +13,6 @@ On this 2-core VM a process can run at half speed for its whole life (docs/perfo
 one process compares versions; the absolute times carry the host's load.
 """
 import argparse
-import importlib
 import os
 import sys
 import tempfile
@@ -21,15 +20,15 @@ import time
 from pathlib import Path
 
 
-from .compare_versions import export
+from .compare_versions import export, import_version
 
 SCENE = "elastic_gate"
 WARMUP = 0.002   # s simulated before timing
 
 
-def _load(package):
-    scene = importlib.import_module(f"{package}.scene")
-    simulation = importlib.import_module(f"{package}.simulation")
+def _load(package, cache_dir=None):
+    scene = import_version(package, "scene", cache_dir)
+    simulation = import_version(package, "simulation", cache_dir)
     return simulation.Simulation(scene.load_scene(SCENE, ["output.snapshot_interval=0"]))
 
 
@@ -42,7 +41,7 @@ def compare(ref, window):
     """{version: {...}} for the reference commit and this checkout over `window` s of simulated time after WARMUP."""
     with tempfile.TemporaryDirectory() as tmp:
         sys.path.insert(0, str(export(ref, Path(tmp))))
-        sims = {ref: _load("ref_core"), "this checkout": _load("sph_fsi_core")}
+        sims = {ref: _load("ref_core", Path(tmp) / "numba"), "this checkout": _load("sph_fsi_core")}
         for sim in sims.values():
             while sim.time < WARMUP - 1e-12:
                 sim.step()

@@ -13,3 +13,9 @@ __version__ = "0.1.0"
 # on a quiet host 1000 spins step as fast as the default within the host's spread (docs/method.md, "Performance
 # design"). Set before Numba starts its threads (libgomp reads it when loaded); a value the user set stands.
 os.environ.setdefault("GOMP_SPINCOUNT", "1000")
+
+# Numba's cache in a directory named by the kernels' sources, so an edited file never runs beside stale machine code
+# of the kernels calling it (numerics/jit_cache.py says why); before any kernel is defined.
+from .numerics import jit_cache as _jit_cache  # noqa: E402
+
+_jit_cache.use_source_keyed_cache()

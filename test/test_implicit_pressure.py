@@ -43,7 +43,7 @@ def _solve(sim, vel, pressure, movable=None, mirror=None, dt=None, tolerance=1e-
     scalars = np.zeros((6, s.count))
     ip.implicit_pressure_step(dt, vel, rho, s.mass / rho, p_in, s.mass, movable, mirror, prm.c0 ** 2, nb.start,
                               nb.index, wk.mls_weights, tolerance, 500, scalars, np.zeros((2, s.count, 3)),
-                              np.zeros((s.count, 3)), wk.buf, wk.scalar_buf, stats)
+                              np.zeros((s.count, 3)), wk.vector_buf, wk.scalar_buf, stats)
     assert np.array_equal(rho, rho_in) and np.array_equal(p_in, pressure)
     return vel, pressure + scalars[0], stats
 

@@ -66,7 +66,7 @@ def pressure_forces(x, volume, start, index, weights, buf, force):
     """force = D^T V x: the pair forces F_ab = -V_a x_a G_ab + V_b x_b G_ba (+F on a, -F on b) of pressures x.
 
     `weights` (pairs, 6): G_ab then G_ba at the current positions (fitted_gradient.momentum_rate_mls); `buf`
-    (chunks, N, >= 3) per-chunk sums of the half list.
+    (chunks, N, 3) per-chunk sums of the half list (a wider buffer would move all its columns through the cache).
     """
     n = x.shape[0]
     chunks = buf.shape[0]
@@ -125,25 +125,28 @@ def fitted_divergence(u, start, index, weights, buf, theta):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, diag):
+def _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, square_buf, diag):
     """diag_a = V_a / K_a + dt^2 V_a^2 (|sum_b G_ab|^2 / m_a + sum_b |G_ab|^2 / m_b): A's diagonal, the clamp's
-    folding left out (the preconditioner needs no more); 1 for the particles that are not unknowns."""
+    folding left out (the preconditioner needs no more); 1 for the particles that are not unknowns. `buf` (chunks,
+    N, 3) and `square_buf` (chunks, N) per-chunk sums."""
     n = mass.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
         out = buf[c]
-        out[:, 0:4] = 0.0
+        out_sq = square_buf[c]
+        out[:, :] = 0.0
+        out_sq[:] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
                 out[a, 0] += weights[s, 0]
                 out[a, 1] += weights[s, 1]
                 out[a, 2] += weights[s, 2]
-                out[a, 3] += (weights[s, 0] ** 2 + weights[s, 1] ** 2 + weights[s, 2] ** 2) / mass[b]
+                out_sq[a] += (weights[s, 0] ** 2 + weights[s, 1] ** 2 + weights[s, 2] ** 2) / mass[b]
                 out[b, 0] += weights[s, 3]
                 out[b, 1] += weights[s, 4]
                 out[b, 2] += weights[s, 5]
-                out[b, 3] += (weights[s, 3] ** 2 + weights[s, 4] ** 2 + weights[s, 5] ** 2) / mass[a]
+                out_sq[b] += (weights[s, 3] ** 2 + weights[s, 4] ** 2 + weights[s, 5] ** 2) / mass[a]
     for a in prange(n):
         if not _unknown(a, movable, ghost_clamp):
             diag[a] = 1.0
@@ -153,7 +156,7 @@ def _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index,
             sx += buf[c, a, 0]
             sy += buf[c, a, 1]
             sz += buf[c, a, 2]
-            sq += buf[c, a, 3]
+            sq += square_buf[c, a]
         diag[a] = (volume[a] * _compliance(a, rho, c0_squared)
                    + dt * dt * volume[a] * volume[a] * ((sx * sx + sy * sy + sz * sz) / mass[a] + sq))
 
@@ -216,7 +219,7 @@ def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_
     max_iterations; `stats` (4,) accumulates steps, iterations, the most in one step and the capped steps.
     `volume` (N,): m / rho at the step's start (solid.stepper.particle_volumes). `scalars` (6, N), `vectors`
     (2, N, 3), `force` (N, 3) scratch; scalars[_X] keeps the solution's change, the next step's warm start (the
-    old pressure plus it).
+    old pressure plus it). `buf` (chunks, N, 3) and `scalar_buf` (chunks, N): the pair passes' per-chunk sums.
     """
     n = vel.shape[0]
     ghost_clamp = clamp_mirror.shape[0] > 0
@@ -231,7 +234,7 @@ def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_
     # from the old pressure plus its last step's change (x holds it; checkpoints keep it with the rest of the work)
     for a in range(n):
         x[a] = pressure[a] + x[a] if _unknown(a, movable, ghost_clamp) else 0.0
-    _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, diag)
+    _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, scalar_buf, diag)
     _apply(x, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
            ux, q, z)
     for a in range(n):

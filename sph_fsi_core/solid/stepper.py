@@ -183,10 +183,11 @@ class SolidWork:
     """Scratch arrays of the solid passes, allocated once per build.
 
     Per-chunk accumulators of the half-list passes, one chunk per thread: `buf` (chunks, N, 18) for the velocity
-    gradient passes, `vector_buf` (chunks, N, 3) for the momentum passes and `scalar_buf` (chunks, N) for the
-    continuity pass (each pass zeroes and sums only its own numbers: three columns of the wide buffer moved all
-    of it through the cache); `blocks`: their pair blocks (pair_blocks.py). The pair cache (w, f, mls_weights) and
-    moment_buf are replaced when the list is rebuilt: take `buffers()` after that, for each driver call.
+    gradient passes, `vector_buf` (chunks, N, 3) for the momentum passes and the implicit pressure's, and
+    `scalar_buf` (chunks, N) for the continuity pass and the implicit pressure's (each pass zeroes and sums only its
+    own numbers: three columns of the wide buffer moved all of it through the cache); `blocks`: their pair blocks
+    (pair_blocks.py). The pair cache (w, f, mls_weights) and moment_buf are replaced when the list is rebuilt: take
+    `buffers()` after that, for each driver call.
     """
 
     def __init__(self, n, hessian_rows=False, implicit_pressure=False, rotate_fit=False):
@@ -456,8 +457,8 @@ def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_
         if prm.implicit_pressure:
             implicit_pressure_step(dt, vel, rho, volume, state.pressure, mass, movable, clamp_mirror, prm.c0 * prm.c0,
                                    start, index, mls_weights, prm.pressure_tolerance, prm.pressure_max_iterations,
-                                   work.pressure_scalars, work.pressure_vectors, work.pressure_force, buf, scalar_buf,
-                                   work.pressure_stats)
+                                   work.pressure_scalars, work.pressure_vectors, work.pressure_force,
+                                   work.vector_buf, scalar_buf, work.pressure_stats)
         xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v, buf)
         # the fitted gradient's own divergence, so pressure and deviatoric stress see one strain rate
         velocity_divergence_rate(rho, grad_v, drho)
