@@ -170,8 +170,9 @@ def test_a_loaded_beam_at_rest_stays_put_whatever_the_tolerance():
                       progress=False)
     assert loose["stable"] and loose["solid_pressure_solve"]["iterations_per_step"] < \
         tight["solid_pressure_solve"]["iterations_per_step"]
-    # settled: 1.0e-4 of the deflection over the last quarter measured (since the mirrored clamp has no margin)
-    assert loose["tip_deflection_swing_m"] < 2e-4 * loose["tip_deflection_m"]
+    # settled: the swing over the last quarter 1.9e-4 / 2.3e-4 of the deflection on 1 / 2 Numba threads (the solve
+    # stopped at 1 % leaves round-off to decide), against the creep this guards against (1 % in 0.2 s)
+    assert loose["tip_deflection_swing_m"] < 5e-4 * loose["tip_deflection_m"]
     assert loose["tip_deflection_m"] == pytest.approx(tight["tip_deflection_m"], rel=1e-3)
 
 
