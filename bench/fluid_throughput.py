@@ -19,8 +19,8 @@ import time
 # 0.10 M particle-iterations/s spinning against 0.48 passive at load 4.3 on 2 cores), but on a quiet one passive
 # waiting costs the tank at 10^5 particles 1.7x (session 11, both code versions). Since 2026-12-05 sph_fsi_core
 # shortens the spin to 1000 (GOMP_SPINCOUNT, its __init__.py): as fast as the default on a quiet host, 3x faster
-# than it on this dam break with one other busy process in one hour (docs/method.md, "Performance design"). The benchmark measures what the command line and the node
-# run; the table records the policy and the spin count.
+# than it on this dam break with one other busy process in one hour (docs/method.md, "Performance design"). The
+# benchmark measures what the command line and the node run; the table records the policy and the spin count.
 
 import numba  # noqa: E402
 

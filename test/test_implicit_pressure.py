@@ -163,16 +163,23 @@ def test_a_loaded_beam_at_rest_stays_put_whatever_the_tolerance():
     at 1 % of its right-hand side: the density follows the motion (eq. (3)), not the solution, so the solve's error
     cannot build up. (Set from the solution, it crept: Antoci's gate at rest lost 1 % of its deflection in 0.2 s at
     the default 1e-4.) Against the default tolerance's settled deflection: within 0.1 %."""
+    import numba
     from sph_fsi_core.run import run_scene
     beam = ["geometry.length=0.02", "geometry.load_parameter=2"]
-    tight = run_scene(load_scene("cantilever_loaded", beam + ["scene.end_time=0.0625"]), progress=False)
-    loose = run_scene(load_scene("cantilever_loaded", beam + ["scene.end_time=0.1", "solid.pressure_tolerance=0.01"]),
-                      progress=False)
+    # one Numba thread, as CI runs it: with the solve stopped at 1 % round-off decides the settled swing, 1.9e-4 of
+    # the deflection on one thread and 2.3e-4 on two
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        tight = run_scene(load_scene("cantilever_loaded", beam + ["scene.end_time=0.0625"]), progress=False)
+        loose = run_scene(load_scene("cantilever_loaded", beam + ["scene.end_time=0.1",
+                                                                  "solid.pressure_tolerance=0.01"]), progress=False)
+    finally:
+        numba.set_num_threads(threads)
     assert loose["stable"] and loose["solid_pressure_solve"]["iterations_per_step"] < \
         tight["solid_pressure_solve"]["iterations_per_step"]
-    # settled: the swing over the last quarter 1.9e-4 / 2.3e-4 of the deflection on 1 / 2 Numba threads (the solve
-    # stopped at 1 % leaves round-off to decide), against the creep this guards against (1 % in 0.2 s)
-    assert loose["tip_deflection_swing_m"] < 5e-4 * loose["tip_deflection_m"]
+    # settled: 1.0e-4 of the deflection over the last quarter measured (since the mirrored clamp has no margin)
+    assert loose["tip_deflection_swing_m"] < 2e-4 * loose["tip_deflection_m"]
     assert loose["tip_deflection_m"] == pytest.approx(tight["tip_deflection_m"], rel=1e-3)
 
 

@@ -14,12 +14,14 @@ when sph_fsi_core is imported): a source update starts an empty cache, and going
 """
 import hashlib
 import os
+import re
 import shutil
 import sys
 import time
 from pathlib import Path
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]
+_KERNEL = re.compile(r"^@njit\b", re.MULTILINE)
 # how many caches of other source versions are kept beside the current one (the most recently used)
 KEEP_OTHER_VERSIONS = 3
 # a cache used within this many seconds is never removed (another process may be running that version)
@@ -27,10 +29,10 @@ IN_USE_SECONDS = 3600.0
 
 
 def kernel_sources(package_dir=PACKAGE_DIR):
-    """The package's files that define Numba kernels (those holding "@njit"), sorted. The kernels read no constant
+    """The package's files that define Numba kernels (a line starting "@njit"), sorted. The kernels read no constant
     from any other file (a global is frozen into the machine code at compile time)."""
     return sorted(path for path in Path(package_dir).rglob("*.py")
-                  if "__pycache__" not in path.parts and "@njit" in path.read_text(encoding="utf-8"))
+                  if "__pycache__" not in path.parts and _KERNEL.search(path.read_text(encoding="utf-8")))
 
 
 def source_digest(package_dir=PACKAGE_DIR):
@@ -81,9 +83,12 @@ def use_source_keyed_cache(package_dir=PACKAGE_DIR):
     try:
         path.mkdir(parents=True, exist_ok=True)
         os.utime(path)
-        prune_caches(root, path)
     except OSError:
         return None     # Numba falls back to its own locations
+    try:
+        prune_caches(root, path)
+    except OSError:     # another process pruning at the same time: the keyed cache stands
+        pass
     os.environ["NUMBA_CACHE_DIR"] = str(path)
     config = sys.modules.get("numba.core.config")
     if config is not None:
