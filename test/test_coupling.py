@@ -40,10 +40,15 @@ def test_coupling_keys_only_in_coupled_scenes():
 
 
 def test_paper_particle_counts_at_1mm():
-    sim = Simulation(load_scene("elastic_gate"))
+    """Across the paper's 36 mm its counts (sec. 3.2: 5,760 gate, 27,648 water particles); the scene's narrowest
+    slab (6 layers across) is a sixth of that in every phase."""
+    sim = Simulation(load_scene("elastic_gate", [("geometry.span", 0.036)]))
     assert sim.solid.moving_count == 5760          # 4 x 36 x 40
     assert sim.fluid.count == 27648                # 27,360 + the 288 in the slot
     assert sim.solid.count - sim.solid.moving_count == 432   # clamp: 3 layers of 4 x 36
+    narrow = Simulation(load_scene("elastic_gate"))
+    assert (narrow.solid.moving_count, narrow.fluid.count, narrow.walls.count) == (960, 4608, 4320)
+    assert 6 * narrow.walls.count == sim.walls.count
 
 
 def test_surface_normals(gate_sim):

@@ -154,7 +154,10 @@ def test_runner_time_series_equals_run_scenes_to_the_bit(runner, tmp_path):
     for key in ("simulated_time_s", "outer_steps", "solid_steps", "solid_dt_s", "particle_steps", "status"):
         assert cli[key] == node_summary[key], key
     for key in [k for k in cli if k.startswith(("frequency", "check_", "error", "peak"))]:
-        assert cli[key] == node_summary[key], key
+        if key == "error_metric":   # names where the FE reference came from: the first of the two runs computes it
+            assert cli[key].replace(", cached", "") == node_summary[key].replace(", cached", ""), key
+        else:
+            assert cli[key] == node_summary[key], key
 
 
 def test_run_end_rule_and_numbered_paths():

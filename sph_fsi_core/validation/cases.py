@@ -27,6 +27,10 @@ class Rung:
 # remade as they turn. Case `solid_pressure` runs their twins with the scheme as it is.
 EXPLICIT_PRESSURE = {"solid.pressure": "explicit", "solid.fit_refresh": "remake"}
 
+# The paper's gate as the rungs that carry this were run, across the paper's 36 mm, before the scene took the
+# narrowest periodic slab (2026-12-05: the same answer, case gate_span).
+PAPER_SPAN = {"geometry.span": 0.036}
+
 
 def cantilever_end_time(overrides, periods):
     """`periods` periods of the 3D reference frequency of the beam the overrides make (the scene's defaults else)."""
@@ -199,22 +203,24 @@ def _gate_rungs():
     for dp, label, extra in ((0.002, "dp2mm", {"geometry.gate_clamp_height": 0.004}), (0.001, "dp1mm", {})):
         for model in ("seed", "pressure"):
             rungs.append(Rung("elastic_gate", f"{model}_{label}", "elastic_gate",
-                              {"numerics.spacing": dp, "coupling.model": model, "solid.scheme": "gray2001", **extra},
+                              {"numerics.spacing": dp, "coupling.model": model, "solid.scheme": "gray2001", **extra,
+                               **PAPER_SPAN},
                               end_time=0.14,
                               snapshot_interval=0.02,
                               note=f"dp = {dp * 1e3:g} mm, coupling {model}; the paper's Figs. 6-8 (qualitative)"))
     # Gray's scheme on the default's ladder (solid_pressure's gate_default_elastic_gate_*): 3 and 6 particles through
     for dp, label, through in PAPER_GATE_LADDER:
         rungs.append(Rung("elastic_gate", f"pressure_{label}", "elastic_gate",
-                          {"numerics.spacing": dp, "coupling.model": "pressure", "solid.scheme": "gray2001"},
-                          end_time=0.14, snapshot_interval=0.02,
+                          {"numerics.spacing": dp, "coupling.model": "pressure", "solid.scheme": "gray2001",
+                           **PAPER_SPAN}, end_time=0.14, snapshot_interval=0.02,
                           note=f"dp = {dp * 1e3:.3g} mm ({through} particles through the gate), coupling "
                                f"pressure, solid.scheme = gray2001; the paper's Figs. 6-8 (qualitative)"))
     # At 1 mm the paper's gate is 4 particles thick, enough for the quadratic-fit solid (the scene pins gray2001
     # for its 2 mm runs, where the gate is 2 particles thick and the fit falls back to linear). quadratic_plain
     # brings its own solid.cfl, 0.25: gray2001's 0.5 suits Gray's gradient, not the fit.
     rungs.append(Rung("elastic_gate", "pressure_quadratic_dp1mm", "elastic_gate",
-                      {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.scheme": "quadratic_plain"},
+                      {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.scheme": "quadratic_plain",
+                       **PAPER_SPAN},
                       end_time=0.14, snapshot_interval=0.02,
                       note="dp = 1 mm, coupling pressure, solid.scheme = quadratic_plain (quadratic-fit solid without "
                            "artificial stress)"))
@@ -228,7 +234,8 @@ def _gate_default_rungs():
     """As they were run: with the pressure explicit (EXPLICIT_PRESSURE); their twins with the implicit pressure, and
     the Antoci ladder's third rung (1 mm), are case `solid_pressure`'s."""
     explicit = EXPLICIT_PRESSURE
-    rungs = [Rung("gate_default", "elastic_gate_dp1mm", "elastic_gate", {"numerics.spacing": 0.001, **explicit},
+    rungs = [Rung("gate_default", "elastic_gate_dp1mm", "elastic_gate",
+                  {"numerics.spacing": 0.001, **explicit, **PAPER_SPAN},
                   end_time=0.14, snapshot_interval=0.02, note="the paper's gate at its 1 mm, solid.pressure = explicit")]
     for dp, label in ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm")):
         rungs.append(Rung("gate_default", f"antoci_gate_{label}", "antoci_gate", {"numerics.spacing": dp, **explicit},
@@ -243,11 +250,11 @@ def _gate_default_rungs():
     # the water settled at rest behind the gate (held straight, a plug in the gap) before t = 0 (fluid.settle_time;
     # the verification issue's item 7), and the paper's gate with the 0.1 % tolerance as well
     rungs += [Rung("gate_default", "elastic_gate_settled_dp1mm", "elastic_gate",
-                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, **explicit}, end_time=0.14,
+                   {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, **explicit, **PAPER_SPAN}, end_time=0.14,
                    note="the paper's gate at 1 mm, the water settled 0.1 s behind it, solid.pressure = explicit"),
               Rung("gate_default", "elastic_gate_settled_tolerance0.1pct_dp1mm", "elastic_gate",
                    {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, "fluid.density_tolerance": 0.001,
-                    **explicit}, end_time=0.14,
+                    **explicit, **PAPER_SPAN}, end_time=0.14,
                    note="the paper's gate at 1 mm, settled, density tolerance 0.1 %, solid.pressure = explicit"),
               Rung("gate_default", "antoci_gate_settled_dp1.67mm", "antoci_gate",
                    {"numerics.spacing": 0.005 / 3, "fluid.settle_time": 0.2, **explicit}, end_time=0.4,
@@ -542,13 +549,13 @@ def _solid_pressure_rungs():
     # the gate to 2 layers, 2.67 mm (and the water to 37.3 mm high): summary.json's geometry_effective
     for dp, label, through in PAPER_GATE_LADDER:
         rungs.append(Rung("solid_pressure", f"gate_default_elastic_gate_{label}", "elastic_gate",
-                          {"numerics.spacing": dp}, end_time=0.14, snapshot_interval=0.02,
+                          {"numerics.spacing": dp, **PAPER_SPAN}, end_time=0.14, snapshot_interval=0.02,
                           note=f"the paper's gate at dp = {dp * 1e3:.3g} mm ({through} particles through it); the "
                                f"implicit pressure"))
     # the push relaxed below 2 / (1 + m_a / m_s) (hydrostatic_plate's light_* rungs): does the added-mass alternation
     # move Antoci's peak?
     rungs.append(Rung("solid_pressure", "gate_default_elastic_gate_relaxed_dp1mm", "elastic_gate",
-                      {"numerics.spacing": 0.001, "coupling.relaxation": 0.25}, end_time=0.14,
+                      {"numerics.spacing": 0.001, "coupling.relaxation": 0.25, **PAPER_SPAN}, end_time=0.14,
                       note="the paper's gate at its 1 mm, the implicit pressure, coupling.relaxation = 0.25"))
     rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_relaxed_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, "coupling.relaxation": 0.25}, end_time=0.4,
@@ -590,7 +597,7 @@ def _volumetric_gradient_rungs():
                            "with solid.volumetric_gradient"))
     # in motion, beside the default scheme's runs (solid_pressure/gate_default_*): how far the gates move with it
     rungs.append(Rung("volumetric_gradient", "elastic_gate_dp1mm", "elastic_gate",
-                      {"numerics.spacing": 0.001, **VOLUMETRIC}, end_time=0.14,
+                      {"numerics.spacing": 0.001, **VOLUMETRIC, **PAPER_SPAN}, end_time=0.14,
                       note="the paper's gate at its 1 mm, the default scheme with solid.volumetric_gradient"))
     rungs.append(Rung("volumetric_gradient", "antoci_gate_dp1.67mm", "antoci_gate",
                       {"numerics.spacing": 0.005 / 3, **VOLUMETRIC}, end_time=0.4,
@@ -599,10 +606,29 @@ def _volumetric_gradient_rungs():
     return rungs
 
 
+# The paper's gate on the narrowest periodic slab (the scene's span since 2026-12-05: 6 layers) beside the same run
+# across the paper's 36 mm (each counterpart's kept run): whether the width of a slab uniform across y moves the answer
+# (the main job's cost: docs/validation/OPEN.md 5). The default scheme and Gray's, at 3, 4 and 6 particles through.
+def _gate_span_rungs():
+    rungs = [Rung("gate_span", "default_dp1mm", "elastic_gate", {"numerics.spacing": 0.001}, end_time=0.14,
+                  note="the paper's gate at 1 mm on the narrowest slab, the default scheme (the main job)",
+                  counterpart="solid_pressure/gate_default_elastic_gate_dp1mm")]
+    for dp, label, through in PAPER_GATE_LADDER:
+        rungs.append(Rung("gate_span", f"default_{label}", "elastic_gate", {"numerics.spacing": dp}, end_time=0.14,
+                          note=f"dp = {dp * 1e3:.3g} mm ({through} particles through the gate) on the narrowest slab, "
+                               f"the default scheme", counterpart=f"solid_pressure/gate_default_elastic_gate_{label}"))
+        rungs.append(Rung("gate_span", f"gray2001_{label}", "elastic_gate",
+                          {"numerics.spacing": dp, "coupling.model": "pressure", "solid.scheme": "gray2001"},
+                          end_time=0.14, note=f"dp = {dp * 1e3:.3g} mm ({through} particles through the gate) on the "
+                                              f"narrowest slab, solid.scheme = gray2001",
+                          counterpart=f"elastic_gate/pressure_{label}"))
+    return rungs
+
+
 def all_rungs():
     return (_cantilever_rungs() + _cantilever_shape_rungs() + _large_deflection_rungs() + _solid_static_rungs()
             + _clamp_effect_rungs() + _hydrostatic_plate_rungs() + _fluid_rungs() + _gate_rungs() + _gate_default_rungs()
-            + _gate_static_rungs() + _solid_pressure_rungs() + _volumetric_gradient_rungs())
+            + _gate_static_rungs() + _solid_pressure_rungs() + _volumetric_gradient_rungs() + _gate_span_rungs())
 
 
 # Names that select several cases at once.
