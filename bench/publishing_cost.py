@@ -1,6 +1,7 @@
 """What publishing costs the simulator: the node's frame (particles, tip, strain energy, /clock) against none.
 
-Scene: the paper's gate at 1 mm (`elastic_gate`, 59,760 particles; a frame carries the 33,840 moving ones, fluid and
+Scene: the paper's gate at 1 mm across the paper's 36 mm (`elastic_gate` with `geometry.span=0.036`, not the scene's
+narrowest slab: 59,760 particles; a frame carries the 33,840 moving ones, fluid and
 solid: the paper's 80,064 less its 46,656 wall particles, which the node publishes once on ~/walls).
 The frame is built and published as sph_fsi/publishing.py does on the node's simulation thread (points.particle_points ->
 messages.structured_to_cloud, Vector3Stamped, Float64, Clock), through real rclpy publishers with the node's
@@ -116,7 +117,7 @@ def main(argv=None):
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--repeats", type=int, default=20, help="frames timed for the per-frame cost")
     args = parser.parse_args(argv)
-    overrides = [f"numerics.spacing={args.spacing}", "output.snapshot_interval=0"]
+    overrides = [f"numerics.spacing={args.spacing}", "geometry.span=0.036", "output.snapshot_interval=0"]
     if args.spacing > 0.0015:
         overrides.append("geometry.gate_clamp_height=0.004")
     sim = Simulation(load_scene("elastic_gate", overrides))

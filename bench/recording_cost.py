@@ -1,8 +1,8 @@
 """What recording costs the simulator: throughput with MCAP on, Rerun on, both on, against off; per-frame costs.
 
 Two scenes:
-- `elastic_gate`: the paper's gate case at 1 mm (59,760 particles: 27,648 fluid, 6,192 solid, 25,920 wall; the
-  paper's 80,064 has a longer tank), a frame every outer step (1 ms of simulated time: one fluid step and ~540
+- `elastic_gate`: the paper's gate case at 1 mm across the paper's 36 mm (`geometry.span=0.036`, not the scene's
+  narrowest slab: 59,760 particles, 27,648 fluid, 6,192 solid, 25,920 wall; the paper's 80,064 has a longer tank), a frame every outer step (1 ms of simulated time: one fluid step and ~540
   solid sub-steps), five times denser than the default record interval (0.005 s).
 - `cantilever_1e5`: the cantilever scaled to ~1e5 particles (0.100 x 0.032 x 0.032 m at 1 mm, clamp margin 1:
   106,752 particles, 102,400 moving), a worst case on purpose: a frame every `--steps-per-frame` solid steps
@@ -36,7 +36,7 @@ from sph_fsi.points import moving_particles, topic_plan
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 
-SCENES = {"elastic_gate": ("elastic_gate", ["output.snapshot_interval=0"]),
+SCENES = {"elastic_gate": ("elastic_gate", ["geometry.span=0.036", "output.snapshot_interval=0"]),
           "cantilever_1e5": ("cantilever", ["geometry.length=0.100", "geometry.width=0.032",
                                             "geometry.thickness=0.032", "geometry.clamp_margin=1",
                                             "output.snapshot_interval=0"])}
