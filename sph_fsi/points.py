@@ -53,7 +53,8 @@ def moving_particles(sim):
     solid = getattr(sim, "solid", None)
     if solid is not None:
         m = solid.movable
-        parts.append((PHASE_SOLID, solid.pos[m], solid.vel[m], solid.pressure[m], von_mises(solid.stress[m])))
+        velocity = sim.solid_velocity() if hasattr(sim, "solid_velocity") else solid.vel   # stand-ins have vel only
+        parts.append((PHASE_SOLID, solid.pos[m], velocity[m], solid.pressure[m], von_mises(solid.stress[m])))
     return parts
 
 

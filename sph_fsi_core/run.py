@@ -69,7 +69,8 @@ def write_snapshot(sim, path, snapshot_index=0):
     data = {"time": sim.time}
     if sim.solid is not None:
         s = sim.solid
-        data.update(solid_position=s.pos, solid_velocity=s.vel, solid_density=s.rho, solid_pressure=s.pressure,
+        data.update(solid_position=s.pos, solid_velocity=sim.solid_velocity(), solid_density=s.rho,
+                    solid_pressure=s.pressure,
                     solid_stress_deviatoric=s.stress, solid_movable=s.movable,
                     solid_sigma_zz=s.stress[:, 2] - s.pressure,   # the paper's sigma^22 (Fig. 6), Pa
                     stress_components=np.array(COMPONENT_NAMES))

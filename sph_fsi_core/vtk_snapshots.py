@@ -77,7 +77,7 @@ def write_vtk_snapshot(sim, directory, index):
     if sim.solid is not None:
         s = sim.solid
         write_vtu(directory / f"solid_{index:05d}.vtu", s.pos, {
-            "velocity": s.vel, "displacement": s.pos - sim._initial_positions, "density": s.rho,
+            "velocity": sim.solid_velocity(), "displacement": s.pos - sim._initial_positions, "density": s.rho,
             "pressure": s.pressure, "stress": full_stress(s.stress, s.pressure), "von_mises": von_mises(s.stress),
             "movable": s.movable})
         phases.append("solid")

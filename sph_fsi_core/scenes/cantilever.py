@@ -101,13 +101,14 @@ def build(values):
                  clamp_mirror=clamp_mirror_across(pos, movable, 0, 0.0, dp))
 
 
-def sample(solid, probes):
-    """Extra time-series column: the free end's mean sideways (y) velocity, where a spurious sideways mode shows.
+def sample(solid, probes, vel):
+    """Extra time-series column: the free end's mean sideways (y) velocity, where a spurious sideways mode shows
+    (vel: Simulation.solid_velocity).
 
     The mean, not the largest particle speed: bending with nu = 0.49 makes the cross-section breathe in y
     (anticlastic curvature), a symmetric motion that is physical and cancels in the mean.
     """
-    return {"tip_vy": float(solid.vel[probes[0].indices, 1].mean())}
+    return {"tip_vy": float(vel[probes[0].indices, 1].mean())}
 
 
 # the shortest record, in periods of the reference frequency, whose frequency is measured and judged

@@ -182,10 +182,10 @@ def effective_geometry(values):
             "span_m": c["ny"] * dp}
 
 
-def sample(solid, probes):
-    """Extra time-series columns: the free end's mean velocity in x and z."""
+def sample(solid, probes, vel):
+    """Extra time-series columns: the free end's mean velocity in x and z (vel: Simulation.solid_velocity)."""
     tip = probes[0].indices
-    return {"tip_vx": float(solid.vel[tip, 0].mean()), "tip_vz": float(solid.vel[tip, 2].mean())}
+    return {"tip_vx": float(vel[tip, 0].mean()), "tip_vz": float(vel[tip, 2].mean())}
 
 
 def sample_fluid(sim):
