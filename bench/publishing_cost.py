@@ -1,8 +1,8 @@
 """What publishing costs the simulator: the node's frame (particles, tip, strain energy, /clock) against none.
 
-Scene: the paper's gate at 1 mm across the paper's 36 mm (`elastic_gate` with `geometry.span=0.036`, not the scene's
-narrowest slab: 59,760 particles; a frame carries the 33,840 moving ones, fluid and
-solid: the paper's 80,064 less its 46,656 wall particles, which the node publishes once on ~/walls).
+Scene: the paper's gate at 1 mm across the paper's 36 mm (`elastic_gate` with `geometry.span=0.036`, not the
+scene's narrowest slab: 59,760 particles; a frame carries the 33,840 moving ones, fluid and solid: the paper's
+80,064 less its 46,656 wall particles, which the node publishes once on ~/walls).
 The frame is built and published as sph_fsi/publishing.py does on the node's simulation thread (points.particle_points ->
 messages.structured_to_cloud, Vector3Stamped, Float64, Clock), through real rclpy publishers with the node's
 default QoS, and a subscriber in another process takes every message (so each frame is serialized and sent, as

@@ -2,8 +2,9 @@
 
 Two scenes:
 - `elastic_gate`: the paper's gate case at 1 mm across the paper's 36 mm (`geometry.span=0.036`, not the scene's
-  narrowest slab: 59,760 particles, 27,648 fluid, 6,192 solid, 25,920 wall; the paper's 80,064 has a longer tank), a frame every outer step (1 ms of simulated time: one fluid step and ~540
-  solid sub-steps), five times denser than the default record interval (0.005 s).
+  narrowest slab: 59,760 particles, 27,648 fluid, 6,192 solid, 25,920 wall; the paper's 80,064 has a longer tank),
+  a frame every outer step (1 ms of simulated time: one fluid step and ~540 solid sub-steps), five times denser
+  than the default record interval (0.005 s).
 - `cantilever_1e5`: the cantilever scaled to ~1e5 particles (0.100 x 0.032 x 0.032 m at 1 mm, clamp margin 1:
   106,752 particles, 102,400 moving), a worst case on purpose: a frame every `--steps-per-frame` solid steps
   (1 = every solid step), where a real run records every 0.005 s of simulated time (~2,700 solid steps).

@@ -133,8 +133,8 @@ def build(values):
 
 def sample_fluid(sim):
     """Extra time-series column: the water's vertical force on the whole solid, clamps included (the pairs that
-    reach them past the corners), N, + up, from the last fluid step ('pressure' model; the force on the span alone
-    is the common column coupling_force_z)."""
+    reach them past the corners), N, + up, from the last fluid step ('pressure' model; the force on the span alone,
+    averaged over the outer step, is the common column coupling_force_z)."""
     coupling = sim.coupling
     if coupling.model != "pressure":     # 'seed' pushes the span's surface only
         return {"water_force_z_all": float((sim.solid.mass * coupling.acc[:, 2]).sum())}

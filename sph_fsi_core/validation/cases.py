@@ -623,7 +623,8 @@ def _gate_span_rungs():
                   counterpart="solid_pressure/gate_default_elastic_gate_dp1mm"),
              Rung("gate_span", "gray2001_dp1mm", "elastic_gate",
                   {"numerics.spacing": 0.001, "coupling.model": "pressure", "solid.scheme": "gray2001"}, end_time=0.14,
-                  note="the paper's gate at 1 mm on the narrowest slab with the paper's scheme, solid.scheme = gray2001",
+                  note="the paper's gate at 1 mm on the narrowest slab with the paper's scheme, solid.scheme = "
+                       "gray2001",
                   counterpart="elastic_gate/pressure_dp1mm")]
     for dp, label, through in PAPER_GATE_LADDER:
         rungs.append(Rung("gate_span", f"default_{label}", "elastic_gate", {"numerics.spacing": dp}, end_time=0.14,

@@ -697,7 +697,8 @@ def _gate_extra(rungs, summaries):
                   "how much of it is recovered by the end (0.14 s); strain energy of the gate, its peak, when, and "
                   "its fall by the end. Checks passed: the peak in the paper's 0.06-0.08 s, spring-back >= 20 %, "
                   "energy falls >= 20 % after its peak.", "",
-                  "| run | coupling, solid | dp [mm] | dx peak [mm] | at [s] | spring-back | strain energy peak, 36 mm gate [mJ] | "
+                  "| run | coupling, solid | dp [mm] | dx peak [mm] | at [s] | spring-back | "
+                  "strain energy peak, 36 mm gate [mJ] | "
                   "at [s] | fall | checks passed | wall [s] |",
                   "|---|---|---|---|---|---|---|---|---|---|---|", *paper]
     return lines
