@@ -646,7 +646,7 @@ class Simulation:
             report = solver.step(dt)
             if self.coupling is not None:
                 self._advance_coupled_solid(dt)
-                push += dt * (self.solid.mass[:, None] * self.coupling.acc).sum(axis=0)
+                push += dt * (self.solid.mass @ self.coupling.acc)
             done += dt
             steps += 1
             iterations += report.iterations

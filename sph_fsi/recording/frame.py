@@ -77,7 +77,8 @@ def capture(sim, row=None, diagnostics=None):
         stress = getattr(state, "stress", None) if phase == "solid" else None
         # the solid's velocity as every output has it (Simulation.solid_velocity; stand-ins have vel only)
         vel = sim.solid_velocity() if phase == "solid" and hasattr(sim, "solid_velocity") else state.vel
-        raw.append((PHASE_CODES[phase], state.pos.copy(), np.array(vel, copy=True), state.pressure.copy(),
+        vel = vel.copy() if vel is state.vel else vel   # solid_velocity's v + u/2 is already a new array
+        raw.append((PHASE_CODES[phase], state.pos.copy(), vel, state.pressure.copy(),
                     None if stress is None else stress.copy(), None if m is None else np.array(m, dtype=bool)))
     probes = {k: tuple(float(x) for x in v) for k, v in sim.probe_displacements().items()}
     energies = {k: float(v) for k, v in row.items() if k.endswith("energy")} if row is not None else None

@@ -27,6 +27,19 @@ def _fmt(x, spec=".3g"):
     return format(x, spec)
 
 
+def _save_panels(plt, fig, axes, path, legend_size=None):
+    """A figure's panels gridded (and their legends drawn at `legend_size`), laid out, saved at 120 dpi and closed;
+    returns the file's name."""
+    for a in axes:
+        a.grid(True, alpha=0.3)
+        if legend_size:
+            a.legend(fontsize=legend_size)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path).name
+
+
 def _row(rung, s):
     if s is None:
         return f"| {rung.case} | {rung.label} | not run | | | | | | | | | |"
@@ -519,13 +532,7 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
         a1.set_title("Dam break: surge front")
         a2.set_xlabel("t [s]")
         a2.set_ylabel("iterations per step")
-        for a in (a1, a2):
-            a.grid(True, alpha=0.3)
-            a.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(Path(out_dir) / "dam_break_front.png", dpi=120)
-        plt.close(fig)
-        made.append("dam_break_front.png")
+        made.append(_save_panels(plt, fig, (a1, a2), Path(out_dir) / "dam_break_front.png", legend_size=8))
     runs = [r for r in rungs if r.case == "lobovsky_dam_break" and r.key in summaries]
     if runs:
         fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
@@ -568,13 +575,7 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
         a1.set_title("Hydrostatic tank")
         a2.set_ylabel("correction iterations per step")
         a2.set_xlabel("t [s]")
-        for a in (a1, a2):
-            a.grid(True, alpha=0.3)
-            a.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(Path(out_dir) / "hydrostatic_pressure.png", dpi=120)
-        plt.close(fig)
-        made.append("hydrostatic_pressure.png")
+        made.append(_save_panels(plt, fig, (a1, a2), Path(out_dir) / "hydrostatic_pressure.png", legend_size=8))
     return made
 
 
@@ -594,13 +595,18 @@ def _counterpart_run(out_dir, key):
     return None, None
 
 
+def _free_end_gap(rows_a, rows_b):
+    """[(t, dx_a - dx_b)] of the free end at the sample times both runs have (m; empty without both)."""
+    if not rows_a or not rows_b:
+        return []
+    b = {round(float(r["time"]), 9): float(r["tip_dx"]) for r in rows_b}
+    return [(float(r["time"]), float(r["tip_dx"]) - b[round(float(r["time"]), 9)]) for r in rows_a
+            if round(float(r["time"]), 9) in b]
+
+
 def _free_end_difference(rows_a, rows_b, until):
     """Largest |dx_a - dx_b| of the free end over the samples both runs have at t <= until, m (None without both)."""
-    if not rows_a or not rows_b:
-        return None
-    b = {round(float(r["time"]), 9): float(r["tip_dx"]) for r in rows_b}
-    diffs = [abs(float(r["tip_dx"]) - b[round(float(r["time"]), 9)]) for r in rows_a
-             if float(r["time"]) <= until + 1e-12 and round(float(r["time"]), 9) in b]
+    diffs = [abs(d) for t, d in _free_end_gap(rows_a, rows_b) if t <= until + 1e-12]
     return max(diffs) if diffs else None
 
 
@@ -763,13 +769,7 @@ def _gate_plots(out_dir, rungs, summaries, plt):
         axes[0].set_title("The paper's elastic gate: free end (cf. Fig. 7) and strain energy (cf. Fig. 8)")
         axes[1].set_ylabel("strain energy of the 36 mm gate [mJ]")
         axes[1].set_xlabel("t [s]")
-        for a in axes:
-            a.grid(True, alpha=0.3)
-            a.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(Path(out_dir) / "elastic_gate_tip_and_energy.png", dpi=120)
-        plt.close(fig)
-        made.append("elastic_gate_tip_and_energy.png")
+        made.append(_save_panels(plt, fig, axes, Path(out_dir) / "elastic_gate_tip_and_energy.png", legend_size=7))
     return made
 
 
@@ -824,25 +824,17 @@ def _gate_span_plot(out_dir, rungs, summaries, plt):
         return []
     fig, axes = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
     for i, (r, rows, old_rows) in enumerate(pairs):
-        t = np.array([float(x["time"]) for x in rows])
-        dx = np.array([float(x["tip_dx"]) for x in rows])
-        old = {round(float(x["time"]), 9): float(x["tip_dx"]) for x in old_rows}
-        axes[0].plot(t, 1e3 * dx, "-", color=f"C{i}", label=f"{r.label}, narrowest slab")
-        axes[0].plot([float(x["time"]) for x in old_rows], [1e3 * float(x["tip_dx"]) for x in old_rows], "--",
-                     color=f"C{i}", label=f"{r.counterpart}, 36 mm")
-        both = [(ti, di - old[round(ti, 9)]) for ti, di in zip(t, dx) if round(ti, 9) in old]
-        axes[1].plot([b[0] for b in both], [1e3 * b[1] for b in both], "-", color=f"C{i}", label=r.label)
+        for series, style, label in ((rows, "-", f"{r.label}, narrowest slab"),
+                                     (old_rows, "--", f"{r.counterpart}, 36 mm")):
+            axes[0].plot([float(x["time"]) for x in series], [1e3 * float(x["tip_dx"]) for x in series], style,
+                         color=f"C{i}", label=label)
+        gap = _free_end_gap(rows, old_rows)
+        axes[1].plot([t for t, _ in gap], [1e3 * d for _, d in gap], "-", color=f"C{i}", label=r.label)
     axes[0].set_ylabel("free-end x displacement [mm]")
     axes[0].set_title("The paper's gate: the narrowest periodic slab against the paper's 36 mm")
     axes[1].set_ylabel("narrowest minus 36 mm [mm]")
     axes[1].set_xlabel("t [s]")
-    for a in axes:
-        a.grid(True, alpha=0.3)
-        a.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "gate_span_free_end.png", dpi=120)
-    plt.close(fig)
-    return ["gate_span_free_end.png"]
+    return [_save_panels(plt, fig, axes, Path(out_dir) / "gate_span_free_end.png", legend_size=7)]
 
 
 def _plots(out_dir, rungs, summaries):
@@ -914,12 +906,7 @@ def _plots(out_dir, rungs, summaries):
             a2.plot(t, e * 1e9)
             a2.set_ylabel("kinetic + strain energy [nJ]")
             a2.set_xlabel("t [s]")
-            for a in (a1, a2):
-                a.grid(True, alpha=0.3)
-            fig.tight_layout()
-            fig.savefig(Path(out_dir) / "cantilever_tip_and_energy.png", dpi=120)
-            plt.close(fig)
-            made.append("cantilever_tip_and_energy.png")
+            made.append(_save_panels(plt, fig, (a1, a2), Path(out_dir) / "cantilever_tip_and_energy.png"))
     made += _clamp_effect_plot(out_dir, rungs, summaries, plt)
     made += _fluid_plots(out_dir, rungs, summaries, plt)
     made += _gate_plots(out_dir, rungs, summaries, plt)
