@@ -230,7 +230,8 @@ class Coupling:
     """
 
     def __init__(self, solid, fluid, walls, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
-                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None):
+                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None,
+                 rigid=None):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         self.solid, self.fluid = solid, fluid
@@ -243,6 +244,11 @@ class Coupling:
         self.wall_mass = self.rho0 * self.volume * lattice_scale   # module docstring, item 1
         wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         wall_m = walls.mass if walls is not None else np.zeros(0)
+        # `rigid`: solid particles the fluid sees where they were built (a mirrored clamp's ghosts out of the body's
+        # reach: Simulation._rigid_clamp); the solid moves them as its clamp needs, the water meets the holder
+        self.rigid = np.asarray(rigid if rigid is not None else [], dtype=np.int64)
+        self.rigid_pos = solid.pos[self.rigid].copy()
+        self._seen = solid.pos.copy()
         self.boundary = WallState(pos=np.ascontiguousarray(np.concatenate([wall_pos, solid.pos])),
                                   mass=np.concatenate([wall_m, self.wall_mass]), rho0=self.rho0)
         self.solid_p = np.zeros(solid.count)
@@ -279,9 +285,17 @@ class Coupling:
     def surface_count(self):
         return int(self.surface.sum())
 
+    def seen_positions(self):
+        """The solid as the fluid sees it: where it is, its rigid particles where they were built."""
+        if not len(self.rigid):
+            return self.solid.pos
+        self._seen[:] = self.solid.pos
+        self._seen[self.rigid] = self.rigid_pos
+        return self._seen
+
     def before_fluid_step(self, solver):
         """Put the solid where it is into the fluid's boundary; rebuild the fluid's lists if their skin is used up."""
-        self.boundary.pos[self.offset:] = self.solid.pos
+        self.boundary.pos[self.offset:] = self.seen_positions()
         if solver.wall_neighbours.is_stale(self.fluid.pos, self.boundary.pos):
             solver.rebuild()
 
@@ -296,10 +310,11 @@ class Coupling:
         """The solid's external acceleration from the fluid step just taken (held over the sub-steps)."""
         s, f = self.solid, self.fluid
         nb = self.fluid_neighbours
-        nb.update(s.pos, f.pos)
+        pos = self.seen_positions()
+        nb.update(pos, f.pos)
         if self.model == "seed":
             self.refresh_normals()
-            seed_push(s.pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, f.pos, f.mass, f.rho,
+            seed_push(pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, f.pos, f.mass, f.rho,
                       f.correction_displacement, 1.0 / (dt * dt), self.period, self.h, self.gamma, self.acc)
         else:
             self.pressure_forces()
@@ -326,9 +341,10 @@ class Coupling:
         """'pressure' model: P_s and the forces on the solid particles (self.force, N) from the fluid's current P."""
         s, f = self.solid, self.fluid
         nb = self.fluid_neighbours
-        nb.update(s.pos, f.pos)
-        shepard_pressure(s.pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.solid_p)
-        pressure_force_on_solid(s.pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass,
+        pos = self.seen_positions()
+        nb.update(pos, f.pos)
+        shepard_pressure(pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.solid_p)
+        pressure_force_on_solid(pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass,
                                 f.pressure, self.period, self.h, self.rho0, self.force)
         return self.force
 
@@ -338,9 +354,10 @@ class Coupling:
         f, s = self.fluid, self.solid
         radius, skin, period, lo, hi = self._list_args
         nb = NeighbourList(radius, skin, period=period, box_lo=lo, box_hi=hi)
-        nb.build(f.pos, s.pos)
+        pos = self.seen_positions()
+        nb.build(f.pos, pos)
         out = np.zeros((f.count, 3))
-        pressure_force_on_fluid(f.pos, f.mass, f.pressure, nb.start, nb.index, s.pos, self.wall_mass, self.solid_p,
+        pressure_force_on_fluid(f.pos, f.mass, f.pressure, nb.start, nb.index, pos, self.wall_mass, self.solid_p,
                                 self.period, self.h, self.rho0, out)
         return out
 

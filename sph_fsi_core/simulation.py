@@ -28,7 +28,7 @@ from .solid.stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params
                             solid_acceleration, solid_drivers)
 from .numerics.jit_cache import start_parallel_runtime
 from .numerics.kernels import SUPPORT_RADIUS_IN_H
-from .scenes.built import check_layout
+from .scenes.built import check_layout, ghosts_beyond_reach
 from .scenes.tank import lattice_density_scale
 
 __all__ = ["Simulation", "Diverged"]
@@ -180,7 +180,7 @@ class Simulation:
                                      substeps=v["coupling.substeps"], relaxation=v["coupling.relaxation"],
                                      surface_threshold=v["coupling.surface_threshold"],
                                      skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
-                                     box_hi=built.domain_hi)
+                                     box_hi=built.domain_hi, rigid=self._rigid_clamp(built))
             fluid_walls = self.coupling.boundary   # the solid is a moving wall of the fluid
         self.fluid_solver = FluidSolver(self.fluid, fluid_walls, self.h, self.period, built.domain_lo,
                                         built.domain_hi, v["numerics.neighbour_skin"] * self.h)
@@ -238,6 +238,15 @@ class Simulation:
             raise SceneError(f"solid.clamp = {clamp}: scene builder '{self.spec.builder}' has no plane clamp face "
                              f"to mirror the body across; allowed: fixed")
         return np.ascontiguousarray(built.clamp_mirror, dtype=np.int64)
+
+    def _rigid_clamp(self, built):
+        """The ghosts of a mirrored clamp that the body's sums never reach (d from the face with d + spacing / 2,
+        the distance to the body's first layer, past the kernel's support 2h, with a spacing of margin for the
+        root's strain): the fluid sees them where they were built, the rigid holder they stand for."""
+        if not len(self.clamp_mirror):
+            return None
+        return ghosts_beyond_reach(built.solid.pos, self.clamp_mirror,
+                                   SUPPORT_RADIUS_IN_H * self.h + 0.5 * self.spacing)
 
     def _solid_settings(self, spec):
         """Material constants and pass parameters of `spec`, without touching the state.

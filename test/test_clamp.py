@@ -147,3 +147,35 @@ def test_mirrored_clamp_with_the_gradient_integration_rides_out_the_violent_swin
         closest = min(closest, d.min() / sim.spec["numerics.spacing"])
     assert closest > 0.5
     assert np.isfinite(sim.solid.vel).all()
+
+
+def test_the_water_meets_a_tall_mirrored_clamp_where_it_was_built():
+    """Antoci's gate hangs from 68.5 mm of clamp beside its water (41 layers at 5/3 mm). Its ghosts move as the gate's
+    reversed image; the body's sums reach only those with d + dp / 2 < 2h (d from the face; kept to 2h + dp / 2 for
+    margin: 3 layers at h = 1.3 dp). The other 38 layers stand for the rigid holder: the water sees them where they
+    were built, however the gate bends; the body and the ghosts it reaches are seen where they are."""
+    sim = Simulation(load_scene("antoci_gate", ["numerics.spacing=0.0016666666666666668"]))
+    s, coupling = sim.solid, sim.coupling
+    built = s.pos.copy()
+    ghosts = np.flatnonzero(sim.clamp_mirror >= 0)
+    assert len(ghosts) == 41 * 3 * 6 and np.count_nonzero(~s.movable) == len(ghosts)
+    assert len(coupling.rigid) == 38 * 3 * 6
+    # the gate bent as a cantilever, x = 30 mm (z_face - z)^2 / L^2 (mirror: the water on -x, it bends to +x)
+    face = 0.5 * (s.pos[ghosts, 2] + s.pos[sim.clamp_mirror[ghosts], 2]).mean()
+    depth = np.clip(face - s.pos[:, 2], 0.0, None)
+    s.pos[:, 0] += np.where(s.movable, 0.03 * (depth / 0.079) ** 2, 0.0)
+    s.pos[ghosts] = built[ghosts] - (s.pos[sim.clamp_mirror[ghosts]] - built[sim.clamp_mirror[ghosts]])
+    assert s.pos[ghosts, 0].min() - built[ghosts, 0].min() < -0.02   # the top ghosts mirror the free end
+    coupling.before_fluid_step(sim.fluid_solver)
+    seen = coupling.boundary.pos[coupling.offset:]
+    rigid = np.zeros(s.count, bool)
+    rigid[coupling.rigid] = True
+    assert np.array_equal(seen[rigid], built[rigid])
+    assert np.array_equal(seen[~rigid], s.pos[~rigid])
+    near = ghosts[~rigid[ghosts]]
+    # the ghosts the body reaches move with its root: under 1 % of the free end's 30 mm (3 dp from the face)
+    assert 0.0 < np.abs(seen[near] - built[near]).max() < 0.01 * 0.03
+    # the push on the body comes from the same view: the pair forces on the water sum to minus those on the solid
+    coupling.pressure_forces()
+    on_fluid = coupling.fluid_side_forces().sum(axis=0)
+    assert np.allclose(on_fluid, -coupling.force.sum(axis=0), rtol=1e-12, atol=1e-15)

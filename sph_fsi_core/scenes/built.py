@@ -61,6 +61,18 @@ def clamp_mirror_across(pos, movable, axis, face, spacing):
     return mirror
 
 
+def ghosts_beyond_reach(pos, clamp_mirror, reach):
+    """The ghosts (clamp_mirror >= 0) farther than `reach` from the clamp face (half the way to their image).
+
+    A ghost moves as its image's reversed displacement, so a clamp taller than the kernel's reach moves far from the
+    face as the body does far from it: Antoci's gate hangs from 68.5 mm of clamp beside the water, whose top ghosts
+    mirror the free end. The body's sums never reach them; the water must see the rigid holder they stand for."""
+    mirror = np.asarray(clamp_mirror)
+    ghost = np.flatnonzero(mirror >= 0)
+    to_face = 0.5 * np.linalg.norm(pos[ghost] - pos[mirror[ghost]], axis=1)
+    return ghost[to_face > reach]
+
+
 def check_layout(built, spacing):
     """Refuse a built scene whose bodies overlap or leave its domain, before anything is computed.
 

@@ -546,8 +546,14 @@ def _solid_pressure_rungs():
             + ["gate_static/loaded_gradient_mirrored_dp1.67mm", "hydrostatic_plate/scaled_t_over_dp_4",
                "hydrostatic_plate/scaled_t_over_dp_6",
                "gate_default/elastic_gate_dp1mm", "gate_default/antoci_gate_dp1.67mm",
-               "gate_default/antoci_gate_dp1.25mm"])
+               "gate_default/antoci_gate_dp1.25mm", "gate_default/antoci_gate_E10MPa_nu0.49_dp1.67mm"])
     rungs = [_twin(by_key[k]) for k in keys]
+    # the band's other edge one rung finer (the verification issue's item 5: each published material on the ladder)
+    rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_E10MPa_nu0.49_dp1.25mm", "antoci_gate",
+                      {"numerics.spacing": 0.00125, "solid.young_modulus": 1.0e7, "solid.poisson_ratio": 0.49},
+                      end_time=0.4, note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 1.25 mm (4 "
+                                         "particles through the gate); free end vs Antoci et al. 2007; the implicit "
+                                         "pressure"))
     rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_dp1mm", "antoci_gate", {"numerics.spacing": 0.001},
                       end_time=0.4, note="dp = 1 mm (5 particles through the gate); free end vs Antoci et al. 2007; "
                                          "the implicit pressure"))
