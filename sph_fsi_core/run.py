@@ -167,7 +167,10 @@ class RunLog:
             "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
             "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
                           "surface_particles": sim.coupling.surface_count,
-                          "last_substeps": sim.coupling.last_substeps} if getattr(sim, "coupling", None) else None),
+                          "last_substeps": sim.coupling.last_substeps,
+                          # a mirrored clamp's ghosts the water meets where they were built (coupling.Coupling)
+                          **({"rigid_clamp_particles": len(sim.coupling.rigid)} if len(sim.coupling.rigid) else {})}
+                         if getattr(sim, "coupling", None) else None),
             "snapshots": snapshots, "machine": machine_info(),
             "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},
             **evaluation,

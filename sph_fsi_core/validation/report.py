@@ -716,7 +716,8 @@ def _gate_plots(out_dir, rungs, summaries, plt):
     runs = [r for r in rungs if r.scene == "antoci_gate" and r.key in summaries]
     if runs:
         from .references import antoci_gate_tip
-        fig, axes = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
+        fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
+        material = ("solid.young_modulus", "solid.poisson_ratio")
         for ax, comp, col in ((axes[0], "x", "tip_dx"), (axes[1], "z", "tip_dz")):
             te, ye = antoci_gate_tip(comp)
             ax.plot(te, ye * 1e3, "ko", label="Antoci et al. 2007 (experiment)")
@@ -729,23 +730,24 @@ def _gate_plots(out_dir, rungs, summaries, plt):
                 y = np.array([float(x[col]) for x in rows])
                 ax.plot(t, y * 1e3, "-" if "pressure" in r.label else "--", color=f"C{i}", label=r.label)
                 settings = summaries[r.key]["settings"]
-                if settings.get("fluid.settle_time", 0.0) > 0.0:
-                    continue                       # the band is the materials' only, from the paper's start
-                by_spacing.setdefault(round(settings["numerics.spacing"], 9), []).append(
-                    (settings["solid.young_modulus"], settings["solid.poisson_ratio"], t, y))
-            for dp, curves in by_spacing.items():   # the published materials at one spacing: a band
-                if len({(e, nu) for e, nu, _, _ in curves}) < 2:
+                # the band: runs that differ only in the material, at one spacing (not a relaxed or settled twin)
+                others = frozenset((k, str(v)) for k, v in r.overrides.items()
+                                   if k not in material and k != "numerics.spacing")
+                by_spacing.setdefault((round(settings["numerics.spacing"], 9), others), {}).setdefault(
+                    (settings["solid.young_modulus"], settings["solid.poisson_ratio"]), (t, y))
+            for (dp, others), curves in by_spacing.items():   # the published materials at one spacing: a band
+                if len(curves) < 2:
                     continue
-                t = curves[0][2]
-                ys = np.array([np.interp(t, tc, yc) for _, _, tc, yc in curves])
-                materials = " and ".join(f"E {e / 1e6:.3g} MPa / nu {nu:.3g}" for e, nu, _, _ in curves)
+                t = next(iter(curves.values()))[0]
+                ys = np.array([np.interp(t, tc, yc) for tc, yc in curves.values()])
+                materials = ", ".join(f"E {e / 1e6:.3g} / nu {nu:.3g}" for e, nu in curves)
                 ax.fill_between(t, ys.min(axis=0) * 1e3, ys.max(axis=0) * 1e3, color="0.5", alpha=0.25,
-                                label=f"material band at dp {dp * 1e3:.3g} mm: {materials}")
+                                label=f"material band, dp {dp * 1e3:.3g} mm ({materials})")
             ax.set_ylabel(f"free-end {comp} displacement [mm]")
             ax.grid(True, alpha=0.3)
         axes[0].set_title("Antoci et al. 2007's rubber gate: free end, simulation against experiment")
         axes[1].set_xlabel("t [s]")
-        axes[0].legend(fontsize=7)
+        axes[0].legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         fig.tight_layout()
         fig.savefig(Path(out_dir) / "antoci_gate_tip.png", dpi=120)
         plt.close(fig)
