@@ -710,6 +710,30 @@ def _gate_extra(rungs, summaries):
     return lines
 
 
+_MATERIAL = ("solid.young_modulus", "solid.poisson_ratio")
+
+
+def material_bands(curves):
+    """The published materials' band at each spacing: curves [(rung, settings, t, y)] grouped by the spacing and by
+    every other override of the rung (a relaxed or settled twin is not another material), each group's lower and
+    upper envelope on its first curve's times. Returns [(spacing, [(E, nu), ...], t, lower, upper)] for the groups
+    with two materials or more (the first curve of each material)."""
+    groups = {}
+    for rung, settings, t, y in curves:
+        others = frozenset((k, str(v)) for k, v in rung.overrides.items()
+                           if k not in _MATERIAL and k != "numerics.spacing")
+        groups.setdefault((round(settings["numerics.spacing"], 9), others), {}).setdefault(
+            (settings["solid.young_modulus"], settings["solid.poisson_ratio"]), (t, y))
+    bands = []
+    for (dp, _), by_material in groups.items():
+        if len(by_material) < 2:
+            continue
+        t = next(iter(by_material.values()))[0]
+        ys = np.array([np.interp(t, tc, yc) for tc, yc in by_material.values()])
+        bands.append((dp, list(by_material), t, ys.min(axis=0), ys.max(axis=0)))
+    return bands
+
+
 def _gate_plots(out_dir, rungs, summaries, plt):
     """Overlay of the free end against Antoci's data (every antoci_gate rung); the paper's Figs. 7-8 analogues."""
     made = []
@@ -717,11 +741,10 @@ def _gate_plots(out_dir, rungs, summaries, plt):
     if runs:
         from .references import antoci_gate_tip
         fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
-        material = ("solid.young_modulus", "solid.poisson_ratio")
         for ax, comp, col in ((axes[0], "x", "tip_dx"), (axes[1], "z", "tip_dz")):
             te, ye = antoci_gate_tip(comp)
             ax.plot(te, ye * 1e3, "ko", label="Antoci et al. 2007 (experiment)")
-            by_spacing = {}
+            curves = []
             for i, r in enumerate(runs):
                 rows = _series_rows(out_dir, r)
                 if rows is None:
@@ -729,20 +752,11 @@ def _gate_plots(out_dir, rungs, summaries, plt):
                 t = np.array([float(x["time"]) for x in rows])
                 y = np.array([float(x[col]) for x in rows])
                 ax.plot(t, y * 1e3, "-" if "pressure" in r.label else "--", color=f"C{i}", label=r.label)
-                settings = summaries[r.key]["settings"]
-                # the band: runs that differ only in the material, at one spacing (not a relaxed or settled twin)
-                others = frozenset((k, str(v)) for k, v in r.overrides.items()
-                                   if k not in material and k != "numerics.spacing")
-                by_spacing.setdefault((round(settings["numerics.spacing"], 9), others), {}).setdefault(
-                    (settings["solid.young_modulus"], settings["solid.poisson_ratio"]), (t, y))
-            for (dp, others), curves in by_spacing.items():   # the published materials at one spacing: a band
-                if len(curves) < 2:
-                    continue
-                t = next(iter(curves.values()))[0]
-                ys = np.array([np.interp(t, tc, yc) for tc, yc in curves.values()])
-                materials = ", ".join(f"E {e / 1e6:.3g} / nu {nu:.3g}" for e, nu in curves)
-                ax.fill_between(t, ys.min(axis=0) * 1e3, ys.max(axis=0) * 1e3, color="0.5", alpha=0.25,
-                                label=f"material band, dp {dp * 1e3:.3g} mm ({materials})")
+                curves.append((r, summaries[r.key]["settings"], t, y))
+            for dp, materials, t, lower, upper in material_bands(curves):
+                names = ", ".join(f"E {e / 1e6:.3g} / nu {nu:.3g}" for e, nu in materials)
+                ax.fill_between(t, lower * 1e3, upper * 1e3, color="0.5", alpha=0.25,
+                                label=f"material band, dp {dp * 1e3:.3g} mm ({names})")
             ax.set_ylabel(f"free-end {comp} displacement [mm]")
             ax.grid(True, alpha=0.3)
         axes[0].set_title("Antoci et al. 2007's rubber gate: free end, simulation against experiment")

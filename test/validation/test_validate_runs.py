@@ -1,6 +1,8 @@
 """`sph-fsi validate`'s bookkeeping: rungs that are the same run are run once."""
 import json
 
+import numpy as np
+
 from sph_fsi_core.validation import ladder as validation
 from sph_fsi_core.validation.cases import Rung
 
@@ -88,3 +90,28 @@ def test_missing_runs_only_the_rungs_without_a_summary(tmp_path, monkeypatch):
     assert validation.main(["gate_static"], out_dir=tmp_path, missing=True) == 0
     assert calls == [r.key for r in rungs[1:]]
     assert json.loads((done / "summary.json").read_text())["error"] == 0.02
+
+
+def test_the_material_band_spans_the_materials_at_one_spacing_and_leaves_out_twins():
+    """Antoci's plot draws the published materials as a band per spacing (the verification issue's item 5): two
+    materials at one spacing give one band, their envelope; a relaxed twin of one of them (another override) and a
+    run at another spacing join none."""
+    from sph_fsi_core.validation.report import material_bands
+    t = np.linspace(0.0, 0.4, 5)
+
+    def curve(label, overrides, e, nu, peak):
+        rung = Rung("solid_pressure", label, "antoci_gate", overrides)
+        settings = {"numerics.spacing": overrides["numerics.spacing"], "solid.young_modulus": e,
+                    "solid.poisson_ratio": nu}
+        return rung, settings, t, peak * np.sin(np.pi * t / 0.4)
+
+    dp = 0.005 / 3
+    bands = material_bands([
+        curve("a", {"numerics.spacing": dp}, 12e6, 0.4, 0.0345),
+        curve("b", {"numerics.spacing": dp, "solid.young_modulus": 1e7, "solid.poisson_ratio": 0.49}, 1e7, 0.49, 0.0352),
+        curve("c", {"numerics.spacing": dp, "coupling.relaxation": 0.25}, 12e6, 0.4, 0.0340),
+        curve("d", {"numerics.spacing": 0.00125}, 12e6, 0.4, 0.0359)])
+    assert len(bands) == 1
+    spacing, materials, times, lower, upper = bands[0]
+    assert spacing == round(dp, 9) and materials == [(12e6, 0.4), (1e7, 0.49)]
+    assert np.allclose(lower.max(), 0.0345) and np.allclose(upper.max(), 0.0352)
