@@ -309,10 +309,10 @@ class Coupling:
     def push(self, dt):
         """The solid's external acceleration from the fluid step just taken (held over the sub-steps)."""
         s, f = self.solid, self.fluid
-        nb = self.fluid_neighbours
-        pos = self.seen_positions()
-        nb.update(pos, f.pos)
         if self.model == "seed":
+            pos = self.seen_positions()
+            nb = self.fluid_neighbours
+            nb.update(pos, f.pos)
             self.refresh_normals()
             seed_push(pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, f.pos, f.mass, f.rho,
                       f.correction_displacement, 1.0 / (dt * dt), self.period, self.h, self.gamma, self.acc)
