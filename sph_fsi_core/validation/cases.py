@@ -148,6 +148,15 @@ def _fluid_rungs():
                                "fluid.settle_time": 0.3, "fluid.density_tolerance": tolerance}, end_time=0.4,
                               note=f"dp = {height / ratio * 1e3:.3g} mm, gate lifted, settled 0.3 s, "
                                    f"fluid.density_tolerance = {tolerance:g}"))
+    # the front's speed against the fluid's time step: the scene's default with fluid.cfl halved and quartered
+    for ratio in (30, 60, 90):
+        for cfl in (0.1, 0.05):
+            rungs.append(Rung("lobovsky_dam_break", f"lifted_settled_cfl{cfl:g}_H_over_dp_{ratio}",
+                              "lobovsky_dam_break",
+                              {"numerics.spacing": height / ratio, "geometry.release": "lifted",
+                               "fluid.settle_time": 0.3, "fluid.cfl": cfl}, end_time=0.4,
+                              quick=ratio == 30 and cfl == 0.05,
+                              note=f"dp = {height / ratio * 1e3:.3g} mm, gate lifted, settled 0.3 s, fluid.cfl = {cfl:g}"))
     # the experiment's tank in 3D at the coarse spacing: 600 mm wide (30 layers), closed by free-slip side walls
     rungs.append(Rung("lobovsky_dam_break", "lifted_settled_3d_H_over_dp_30", "lobovsky_dam_break",
                       {"numerics.spacing": height / 30, "geometry.release": "lifted", "fluid.settle_time": 0.3,
