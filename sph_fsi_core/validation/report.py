@@ -535,30 +535,7 @@ def _fluid_plots(out_dir, rungs, summaries, plt):
         made.append(_save_panels(plt, fig, (a1, a2), Path(out_dir) / "dam_break_front.png", legend_size=8))
     runs = [r for r in rungs if r.case == "lobovsky_dam_break" and r.key in summaries]
     if runs:
-        fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 5))
-        ref = read_reference_csv("lobovsky2014_front_H600.csv")
-        for a in (a1, a2):
-            a.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", ms=3,
-                   label="Lobovsky et al. 2014 (gate lifted at 4.53 m/s)")
-        for r in runs:
-            rows = _series_rows(out_dir, r)
-            if rows is None:
-                continue
-            axis = a1 if r.overrides.get("geometry.release") == "instant" else a2
-            axis.plot([float(x["T"]) for x in rows], [float(x["front_Z"]) for x in rows],
-                      "--" if "settled" in r.label else "-", label=r.label)
-        for a, title in ((a1, "gate gone at t = 0"), (a2, "gate lifted at 4.53 m/s")):
-            a.set_xlim(0, 1.7)
-            a.set_ylim(0.95, 2.8)
-            a.set_xlabel("T = t sqrt(g / H)")
-            a.set_ylabel("Z = 1 + x / H")
-            a.set_title(f"Lobovsky et al., H = 600 mm: {title}", fontsize=10)
-            a.grid(True, alpha=0.3)
-            a.legend(fontsize=7)
-        fig.tight_layout()
-        fig.savefig(Path(out_dir) / "lobovsky_front.png", dpi=120)
-        plt.close(fig)
-        made.append("lobovsky_front.png")
+        made.append(_lobovsky_plot(plt, out_dir, runs))
     runs = [r for r in rungs if r.case == "hydrostatic" and r.key in summaries]
     if runs:
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(6.5, 6), sharex=True)
@@ -984,3 +961,51 @@ def write_report(out_dir, rungs, summaries):
     lines += ["", "## Plots", ""] + [f"![{p}]({p})" for p in plots]
     (out / "REPORT.md").write_text("\n".join(lines) + "\n")
     return out / "REPORT.md"
+
+
+# the Lobovsky rungs that vary the scene's default (lifted, settled) in something other than the spacing
+_LOBOVSKY_VARIANTS = ("fluid.density_tolerance", "fluid.cfl", "geometry.periodic_y")
+
+
+def _lobovsky_plot(plt, out_dir, runs):
+    """lobovsky_front.png: the front against Lobovsky et al. 2014's (and Martin & Moyce 1952's square column, the
+    other experiment of this column: docs/validation/OPEN.md, 3.1), the gate gone at t = 0 and lifted at the
+    measured speed, each from zero pressure (solid lines) and settled (dashed), and the scene's default beside its
+    variants (tolerance, step, 3D) over the window where the speed is fitted."""
+    fig, axes = plt.subplots(1, 3, figsize=(17, 5.2))
+    ref = read_reference_csv("lobovsky2014_front_H600.csv")
+    other = read_reference_csv("martin_moyce_1952_front_n1.csv")
+    for a in axes:
+        a.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", ms=3,
+               label="Lobovsky et al. 2014 (gate lifted at 4.53 m/s)")
+        a.plot([row["T"] for row in other], [row["Z"] for row in other], "k^", ms=5, mfc="none",
+               label="Martin & Moyce 1952, n^2 = 1 (a = 57 mm)")
+    for r in runs:
+        rows = _series_rows(out_dir, r)
+        if rows is None:
+            continue
+        variant = any(k in r.overrides for k in _LOBOVSKY_VARIANTS)
+        if variant or r.label.startswith("lifted_settled_H"):
+            axes[2].plot([float(x["T"]) for x in rows], [float(x["front_Z"]) for x in rows],
+                         ":" if variant else "-", label=r.label)
+        if variant:
+            continue
+        axis = axes[0] if r.overrides.get("geometry.release") == "instant" else axes[1]
+        axis.plot([float(x["T"]) for x in rows], [float(x["front_Z"]) for x in rows],
+                  "--" if "settled" in r.label else "-", label=r.label)
+    for a, title in ((axes[0], "gate gone at t = 0"), (axes[1], "gate lifted at 4.53 m/s"),
+                     (axes[2], "lifted, settled: the default and its variants")):
+        a.set_xlabel("T = t sqrt(g / H)")
+        a.set_ylabel("Z = 1 + x / H")
+        a.set_title(f"Lobovsky et al., H = 600 mm: {title}", fontsize=10)
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize=6 if a is axes[2] else 7)
+    for a in axes[:2]:
+        a.set_xlim(0, 1.7)
+        a.set_ylim(0.95, 2.8)
+    axes[2].set_xlim(0.9, 1.65)   # the speed's window, T in [1, 1.6]
+    axes[2].set_ylim(1.75, 2.75)
+    fig.tight_layout()
+    fig.savefig(Path(out_dir) / "lobovsky_front.png", dpi=120)
+    plt.close(fig)
+    return "lobovsky_front.png"
