@@ -156,7 +156,8 @@ def _fluid_rungs():
                               {"numerics.spacing": height / ratio, "geometry.release": "lifted",
                                "fluid.settle_time": 0.3, "fluid.cfl": cfl}, end_time=0.4,
                               quick=ratio == 30 and cfl == 0.05,
-                              note=f"dp = {height / ratio * 1e3:.3g} mm, gate lifted, settled 0.3 s, fluid.cfl = {cfl:g}"))
+                              note=f"dp = {height / ratio * 1e3:.3g} mm, gate lifted, settled 0.3 s, "
+                                   f"fluid.cfl = {cfl:g}"))
     # the experiment's tank in 3D at the coarse spacing: 600 mm wide (30 layers), closed by free-slip side walls
     rungs.append(Rung("lobovsky_dam_break", "lifted_settled_3d_H_over_dp_30", "lobovsky_dam_break",
                       {"numerics.spacing": height / 30, "geometry.release": "lifted", "fluid.settle_time": 0.3,

@@ -158,12 +158,17 @@ def cantilever_references(length, thickness, width, young_modulus, poisson_ratio
             "judged_against": judged[0], "reference_hz": judged[1]}
 
 
+def _front_table(name):
+    """(T, Z) columns of a surge-front reference CSV, as arrays."""
+    import numpy as np
+    rows = read_reference_csv(name)
+    return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])
+
+
 def martin_moyce_front():
     """(T, Z) of Martin & Moyce 1952, Fig. 3 (reference_data/martin_moyce_1952_a57mm.csv): surge-front position
     Z = x_front / a against T = t sqrt(2 g / a) for a column of height 2a, a = 57.15 mm."""
-    import numpy as np
-    rows = read_reference_csv("martin_moyce_1952_a57mm.csv")
-    return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])
+    return _front_table("martin_moyce_1952_a57mm.csv")
 
 
 def antoci_gate_tip(component):
@@ -230,19 +235,8 @@ def elastica_tip(alpha, steps=2000, distributed=False):
     return {"deflection": sin_integral, "pull_back": 1.0 - cos_integral, "rotation": theta}
 
 
-def martin_moyce_square_front():
-    """(T, Z) of Martin & Moyce 1952's square column (n^2 = 1, a = 57.15 mm; reference_data/
-    martin_moyce_1952_front_n1.csv): the surge front Z = x / a from the back wall against T = t sqrt(g / a), the
-    units of lobovsky_front. The other experiment of Lobovsky's configuration, at a tenth of its size."""
-    import numpy as np
-    rows = read_reference_csv("martin_moyce_1952_front_n1.csv")
-    return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])
-
-
 def lobovsky_front():
     """(T, Z) of Lobovsky et al. 2014, Fig. 12, H = L = 600 mm (reference_data/lobovsky2014_front_H600.csv): the
     surge front Z = 1 + x / H, x from the gate, against T = t sqrt(g / H), t from the gate's first motion (lifted
     at a median 4.53 m/s). The last three points sit at the far wall (Z = 2.683)."""
-    import numpy as np
-    rows = read_reference_csv("lobovsky2014_front_H600.csv")
-    return np.array([r["T"] for r in rows]), np.array([r["Z"] for r in rows])
+    return _front_table("lobovsky2014_front_H600.csv")

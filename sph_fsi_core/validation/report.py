@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .references import read_reference_csv
+from .references import lobovsky_front, read_reference_csv
 from .cases import CANTILEVER_CASES
 from ..scenes.elastic_gate import PAPER_GATE_WIDTH_M
 
@@ -968,18 +968,12 @@ _LOBOVSKY_VARIANTS = ("fluid.density_tolerance", "fluid.cfl", "geometry.periodic
 
 
 def _lobovsky_plot(plt, out_dir, runs):
-    """lobovsky_front.png: the front against Lobovsky et al. 2014's (and Martin & Moyce 1952's square column, the
-    other experiment of this column: docs/validation/OPEN.md, 3.1), the gate gone at t = 0 and lifted at the
+    """lobovsky_front.png: the front against Lobovsky et al. 2014's, the gate gone at t = 0 and lifted at the
     measured speed, each from zero pressure (solid lines) and settled (dashed), and the scene's default beside its
     variants (tolerance, step, 3D) over the window where the speed is fitted."""
     fig, axes = plt.subplots(1, 3, figsize=(17, 5.2))
-    ref = read_reference_csv("lobovsky2014_front_H600.csv")
-    other = read_reference_csv("martin_moyce_1952_front_n1.csv")
     for a in axes:
-        a.plot([row["T"] for row in ref], [row["Z"] for row in ref], "ko", ms=3,
-               label="Lobovsky et al. 2014 (gate lifted at 4.53 m/s)")
-        a.plot([row["T"] for row in other], [row["Z"] for row in other], "k^", ms=5, mfc="none",
-               label="Martin & Moyce 1952, n^2 = 1 (a = 57 mm)")
+        a.plot(*lobovsky_front(), "ko", ms=3, label="Lobovsky et al. 2014 (gate lifted at 4.53 m/s)")
     for r in runs:
         rows = _series_rows(out_dir, r)
         if rows is None:
