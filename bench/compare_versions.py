@@ -5,8 +5,8 @@ to the bit, and which is faster?
 
 REF is any git commit (e.g. HEAD~3). Its `sph_fsi_core` and `config/` are exported with `git archive` into a temporary
 directory as the package `ref_core`, so both versions import side by side. Both simulations are built from the same
-scene and overrides; `--steps` outer steps later their positions, velocities and densities are compared (bitwise, or
-the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's 2-core VM a
+scene and overrides; `--steps` outer steps later their state (COMPARED) and every time-series row are compared
+(bitwise, or the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's 2-core VM a
 process can run at half speed for its whole life (docs/performance/BENCH.md), so code versions are compared only
 within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it; this
 checkout's is its own source-keyed one (sph_fsi_core/numerics/jit_cache.py).
@@ -51,14 +51,25 @@ def import_version(package, module, cache_dir):
         config.CACHE_DIR = before
 
 
+# the state compared to the bit: every array a later step reads or an output reports
+COMPARED = {"solid": ("pos", "vel", "rho", "stress", "pressure", "acc", "stress_gradient"),
+            "fluid": ("pos", "vel", "rho", "pressure", "correction_displacement")}
+
+
 def state(sim):
     out = {}
-    for phase in ("solid", "fluid"):
+    for phase, names in COMPARED.items():
         obj = getattr(sim, phase)
         if obj is not None:
-            for name in ("pos", "vel", "rho"):
+            for name in names:
                 out[f"{phase}.{name}"] = getattr(obj, name).copy()
     return out
+
+
+def sample_columns(rows):
+    """The time series' rows as {column: array} (NaN where a row lacks the column)."""
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    return {f"timeseries.{k}": np.array([float(r.get(k, np.nan)) for r in rows]) for k in keys}
 
 
 def particle_steps(sim):
@@ -83,19 +94,29 @@ def main(argv=None):
             simulation = import_version(package, "simulation", cache)
             spec = scene.load_scene(args.scene, args.overrides + ["output.snapshot_interval=0"])
             versions[name] = simulation.Simulation(spec)
-        for sim in versions.values():
+        rows = {name: [] for name in versions}
+        for name, sim in versions.items():
             for _ in range(args.steps):
                 sim.step()
+                rows[name].append(sim.sample())
         (ref_name, ref_sim), (new_name, new_sim) = versions.items()
-        a, b = state(ref_sim), state(new_sim)
-        same = True
-        for key in a:
-            if np.array_equal(a[key], b[key]):
+        a = {**state(ref_sim), **sample_columns(rows[ref_name])}
+        b = {**state(new_sim), **sample_columns(rows[new_name])}
+        same = set(a) == set(b)
+        if not same:
+            print(f"compared arrays differ: only in {ref_name}: {sorted(set(a) - set(b))}; only in {new_name}: "
+                  f"{sorted(set(b) - set(a))}")
+        for key in sorted(set(a) & set(b)):
+            if np.array_equal(a[key], b[key], equal_nan=True):
                 print(f"{key}: the same to the bit")
             else:
                 same = False
                 print(f"{key}: differs by up to {np.abs(a[key] - b[key]).max():.3e} (values up to "
                       f"{np.abs(a[key]).max():.3e})")
+        print(f"{args.scene}: {'the same to the bit' if same else 'NOT the same'} after {args.steps} outer steps "
+              f"({len(a)} arrays and time-series columns)")
+        if args.rounds == 0:
+            return 0 if same else 1
         rates = {name: [] for name in versions}
         for _ in range(args.rounds):
             for name, sim in versions.items():

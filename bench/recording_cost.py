@@ -54,7 +54,7 @@ def build(scene):
 
 def set_steps_per_frame(sim, n):
     """One outer step = n solid steps (0.98: stays n while the stable step shrinks a little with speed)."""
-    sim.apply({"output.timeseries_interval": 0.98 * n * sim.stable_solid_dt()})
+    sim.apply({"output.timeseries_interval": 0.98 * n * sim.solid_solver.stable_dt()})
 
 
 def run_config(sim, name, frames, tmp):
@@ -83,7 +83,7 @@ def per_frame_costs(sim, tmp, repeats=5):
     out["capture_ms"] = 1e3 * (time.perf_counter() - t) / repeats
     t = time.perf_counter()
     for _ in range(repeats):
-        frame._parts = None
+        frame.forget_parts()
         frame.parts
     out["moving_and_von_mises_ms"] = 1e3 * (time.perf_counter() - t) / repeats
     static = capture_static(sim)
@@ -94,7 +94,7 @@ def per_frame_costs(sim, tmp, repeats=5):
         size0 = path.stat().st_size
         t = time.perf_counter()
         for _ in range(repeats):
-            frame._parts = None    # each write pays for masking and von Mises, as the first sink of a frame does
+            frame.forget_parts()    # each write pays for masking and von Mises, as the first sink of a frame does
             sink.write(frame)
         sink.close()
         out[f"mcap_{comp}_ms"] = 1e3 * (time.perf_counter() - t) / repeats   # close (last chunk) included
@@ -104,7 +104,7 @@ def per_frame_costs(sim, tmp, repeats=5):
     sink.write(static)
     t = time.perf_counter()
     for _ in range(repeats):
-        frame._parts = None
+        frame.forget_parts()
         sink.write(frame)
     sink.close()
     out["rerun_ms"] = 1e3 * (time.perf_counter() - t) / repeats

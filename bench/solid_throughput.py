@@ -40,11 +40,11 @@ def measure(label, scheme="quadratic_plain", steps_target=2.0e7, min_seconds=5.0
         done = (sim.solid_steps - start_steps) * n
         if done >= steps_target or elapsed >= min_seconds:
             break
-    pairs = sim.solid_neighbours.pairs / n
+    pairs = sim.solid_solver.neighbours.pairs / n
     # what the same simulated time takes in steps of the explicit pressure's limit (the bulk sound speed): with the
     # implicit pressure fewer, costlier steps do the same work, and the measure is time to the answer
     vmax = float(np.sqrt((sim.solid.vel ** 2).sum(axis=1).max()))
-    explicit_dt = sim.spec["solid.cfl"] * sim.h / (sim.sound_speed + vmax)
+    explicit_dt = sim.spec["solid.cfl"] * sim.h / (sim.solid_solver.settings.sound_speed + vmax)
     equivalent = (sim.time - start_time) / explicit_dt * n
     return {"label": label, "scheme": scheme, "particles": n, "pairs_per_particle": round(pairs, 1),
             "steps": sim.solid_steps - start_steps, "seconds": round(elapsed, 3),

@@ -52,7 +52,7 @@ class Watchdog:
         self.initial_energy = sum(energies.values())
 
     def _trip(self, check, bad, detail, phase="solid"):
-        initial = self.sim._initial_positions if phase == "solid" else self.sim._fluid_initial_positions
+        initial = self.sim.initial_positions(phase)
         idx = bad[:3]
         where = "; ".join(f"{phase} particle {i} (initially at {np.array2string(initial[i], precision=4)} m)"
                           for i in idx)

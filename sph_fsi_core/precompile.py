@@ -147,15 +147,16 @@ def warm_up(scene, overrides):
 
 def compile_driver(scene, overrides):
     """Compile (and cache) the solid scheme's driver of `scene` with `overrides`, and so every pass it calls, for the
-    argument types a run passes it (Simulation.leapfrog_arguments of its arrays as allocated), running no kernel;
+    argument types a run passes it (SolidSolver.leapfrog_arguments of its arrays as allocated), running no kernel;
     returns the signature."""
     import numba
     from .scene import load_scene
     from .simulation import Simulation
     from .solid.stepper import solid_drivers
     sim = Simulation.allocated(load_scene(scene, list(overrides.items())))
-    signature = tuple(numba.typeof(value) for value in sim.leapfrog_arguments(1, False, 0.0))
-    solid_drivers(sim.solid_params)[0].compile(signature)
+    solver = sim.solid_solver
+    signature = tuple(numba.typeof(value) for value in solver.leapfrog_arguments(1, False, 0.0))
+    solid_drivers(solver.params)[0].compile(signature)
     return signature
 
 

@@ -284,9 +284,9 @@ class Run:
         self.snapshots_dir = Path(snapshots_dir) if snapshots_dir else None
         self.snapshots = 0
         self._snapshot_dt = spec["output.snapshot_interval"] if snapshots_dir else 0.0
-        self._next_snapshot = 0.0
+        self.next_snapshot = 0.0
         if restored is not None:
-            self.snapshots, self._next_snapshot = restored["snapshots"], restored["next_snapshot"]
+            self.snapshots, self.next_snapshot = restored["snapshots"], restored["next_snapshot"]
             self.diverged = restored["diverged"]
 
     @property
@@ -317,9 +317,9 @@ class Run:
         t0 = time.perf_counter()
         try:
             sim = self.sim
-            if self._snapshot_dt > 0 and sim.time >= self._next_snapshot - 1e-12:
+            if self._snapshot_dt > 0 and sim.time >= self.next_snapshot - 1e-12:
                 self._write_snapshot()
-                self._next_snapshot += self._snapshot_dt
+                self.next_snapshot += self._snapshot_dt
             try:
                 sim.step()
             except Diverged as exc:

@@ -15,7 +15,7 @@ from pathlib import Path
 import yaml
 
 from . import memory_guard
-from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError
+from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError, check_combinations
 from .scenes import BUILDERS, DEFAULT_SCENE
 from .solid.schemes import scheme_values
 
@@ -166,6 +166,7 @@ def _resolve(builder_name, flat, origin):
     values["scene.builder"] = builder_name
     if not values["scene.name"]:
         values["scene.name"] = builder_name
+    check_combinations(values)
     builder.check(values)
     memory_guard.check(builder, values)
     spec = SceneSpec(builder_name, schema, values, origin)

@@ -285,6 +285,28 @@ COUPLING = [
        "face, 0.06 one layer in, 0 deeper)", low=0.0, low_inclusive=False, high=2.0),
 ]
 
+def check_combinations(values):
+    """SceneError for settings that are each in range but do not fit together (the solid's scheme keys, the fluid's
+    iteration bounds); only the keys a scene has are checked."""
+    v = values
+    if "solid.pressure" in v:
+        if v["solid.pressure"] == "implicit" and v["solid.velocity_gradient"] != "quadratic":
+            raise SceneError(f"solid.pressure = implicit solves with the quadratic fit's pair weights; "
+                             f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
+                             f"solid.pressure = explicit)")
+        if v["solid.nodal_integration"] == "gradient" and v["solid.velocity_gradient"] != "quadratic":
+            raise SceneError(f"solid.nodal_integration = gradient needs the quadratic fit's second derivatives; "
+                             f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
+                             f"solid.nodal_integration = plain)")
+        if v["solid.volumetric_gradient"] and v["solid.nodal_integration"] != "gradient":
+            raise SceneError("solid.volumetric_gradient = true is the volumetric part of the strain-gradient "
+                             f"integration; solid.nodal_integration = {v['solid.nodal_integration']}: allowed: "
+                             "gradient (or solid.volumetric_gradient = false)")
+    if "fluid.min_iterations" in v and v["fluid.min_iterations"] > v["fluid.max_iterations"]:
+        raise SceneError(f"fluid.min_iterations = {v['fluid.min_iterations']}: above fluid.max_iterations = "
+                         f"{v['fluid.max_iterations']}; allowed: at most fluid.max_iterations")
+
+
 SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID, "fluid": FLUID, "coupling": COUPLING}
 # Phases a scene may have; a scene whose builder lacks one refuses its section by name.
 PHASE_NAMES = ("solid", "fluid", "walls", "coupling")

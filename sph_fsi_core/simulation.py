@@ -16,16 +16,10 @@ import numpy as np
 from .coupling import Coupling
 from .diagnostics import Diverged, Watchdog, kinetic_energy
 from .fluid.stepper import FluidSolver
-from .numerics.neighbours import NeighbourList, pair_kernel_values
 from .scene import SceneError, SceneSpec
 from .state import WallState
 from .scenes import BUILDERS
-from .solid.gray2001 import material_constants, strain_energy
-from .solid.gradient_integration import gradient_strain_energy
-from .solid.fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
-from .solid.implicit_pressure import IMPULSE_ROW as _PRESSURE_IMPULSE, deviatoric_wave_speed
-from .solid.stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params, mirror_clamp_velocities,
-                            solid_acceleration, solid_drivers)
+from .solid.solver import NO_EXTERNAL, NO_MIRROR, SolidSolver, artificial_stress_warning, cfl_warning
 from .numerics.jit_cache import start_parallel_runtime
 from .numerics.kernels import SUPPORT_RADIUS_IN_H
 from .scenes.built import check_layout, ghosts_beyond_reach
@@ -33,15 +27,6 @@ from .scenes.tank import lattice_density_scale
 
 __all__ = ["Simulation", "Diverged"]
 
-_NO_EXTERNAL = np.zeros((0, 3))
-_NO_MIRROR = np.zeros(0, dtype=np.int64)
-# the largest solid.cfl run with the quadratic fit: 0.35 held on the paper's beam (0.3 in its gate), 0.4 diverged
-QUADRATIC_FIT_TESTED_CFL = 0.35
-# the strain gradient's volumetric part (solid.volumetric_gradient) stepped explicitly stiffens the lattice's shortest
-# modes as a wave of speed^2 kappa K / rho would: the default scheme's linear stability limit on the paper's beam
-# (validation/linear_modes.default_scheme_stable_cfl and its volumetric twin) falls from cfl 0.433 to 0.417 / 0.392 /
-# 0.341 / 0.179 at nu = 0.3 / 0.4 / 0.45 / 0.49, kappa = 0.05-0.13; the largest, so the step keeps its margin
-VOLUMETRIC_GRADIENT_WAVE = 0.13
 # the settling phase's velocity relaxation, rate = SETTLE_RELAXATION / fluid.settle_time: a velocity's memory falls
 # to e^-10 over the phase, and the column still sinks into its compression (at g / rate, 0.1 m/s for 0.1 s)
 SETTLE_RELAXATION = 10.0
@@ -76,7 +61,8 @@ class Simulation:
         neighbour list, fit or force yet; no fluid): what compiling the solid's driver ahead of a run needs, its
         arguments' types (precompile.py). Not a simulation to step."""
         sim = cls.__new__(cls)
-        sim.spec, sim.builder, sim._pending = spec, BUILDERS[spec.builder], {}
+        sim.spec, sim.builder = spec, BUILDERS[spec.builder]
+        sim._pending = {}
         sim._build(start=False)
         return sim
 
@@ -108,29 +94,16 @@ class Simulation:
         self.warnings = []
         self._artificial_stress_warning = None   # the warnings that follow live changes
         self._cfl_warning = None
-        self.neighbour_builds = 0
+        self.solid_solver = None
         if self.solid is not None:
-            self._initial_positions = self.solid.pos.copy()
-            self.clamp_mirror = self._clamp_mirror(built, v["solid.clamp"])
-            mirror_clamp_velocities(self.solid.vel, self.clamp_mirror)
-            gradient_integration = v["solid.nodal_integration"] == "gradient"
-            if gradient_integration:
-                self.solid.stress_gradient = np.zeros((self.solid.count, 3, 6))
-            self.solid_work = SolidWork(self.solid.count, hessian_rows=gradient_integration,
-                                        implicit_pressure=v["solid.pressure"] == "implicit",
-                                        rotate_fit=v["solid.fit_refresh"] == "rotate")
-            self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h,
-                                                  v["numerics.neighbour_skin"] * self.h, period=self.period,
-                                                  box_lo=built.domain_lo, box_hi=built.domain_hi, half=True)
-            self._apply_solid_settings()
+            self.solid_solver = SolidSolver(self.solid, v, self.h, self.spacing, self.period, built.domain_lo,
+                                            built.domain_hi, self._clamp_mirror(built, v["solid.clamp"]))
         if not start:
             return
         if self.solid is not None:
-            self._rebuild_solid_neighbours()
+            self.solid_solver.start()
             self._warn_if_quadratic_fit_falls_back()
-            self._warn_about_artificial_stress()
-            self._warn_about_solid_cfl()
-            self._solid_acceleration()
+            self._warn_about_solid_settings()
         self.fluid_solver = None
         self.fluid_steps = 0
         self.fluid_iterations = 0          # correction iterations, all steps
@@ -158,7 +131,7 @@ class Simulation:
             self._lift = ((self.walls.count if self.walls is not None else 0, release.pos.copy(),
                            np.asarray(built.release_velocity, dtype=np.float64), built.release_travel)
                           if lifted else None)
-            self._fluid_initial_positions = self.fluid.pos.copy()
+            self.fluid_initial_positions = self.fluid.pos.copy()
             self.fluid_lost = np.zeros(self.fluid.count, dtype=np.bool_)   # left the domain: held still
             self._fluid_lost_at = np.zeros((self.fluid.count, 3))
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
@@ -233,7 +206,7 @@ class Simulation:
     def _clamp_mirror(self, built, clamp):
         """The ghost clamp's mirror map for solid.clamp = mirrored; empty (the fixed clamp) otherwise."""
         if clamp == "fixed":
-            return _NO_MIRROR
+            return NO_MIRROR
         if built.clamp_mirror is None or not (built.clamp_mirror >= 0).any():
             raise SceneError(f"solid.clamp = {clamp}: scene builder '{self.spec.builder}' has no plane clamp face "
                              f"to mirror the body across; allowed: fixed")
@@ -243,60 +216,11 @@ class Simulation:
         """The ghosts of a mirrored clamp that the body's sums never reach (d from the face with d + spacing / 2,
         the distance to the body's first layer, past the kernel's support 2h, with a spacing of margin for the
         root's strain): the fluid sees them where they were built, the rigid holder they stand for."""
-        if not len(self.clamp_mirror):
+        mirror = self.solid_solver.clamp_mirror
+        if not len(mirror):
             return None
-        return ghosts_beyond_reach(built.solid.pos, self.clamp_mirror,
+        return ghosts_beyond_reach(built.solid.pos, mirror,
                                    SUPPORT_RADIUS_IN_H * self.h + 0.5 * self.spacing)
-
-    def _solid_settings(self, spec):
-        """Material constants and pass parameters of `spec`, without touching the state.
-
-        SceneError if a forced solid.time_step is above the stable limit for the current velocities.
-        """
-        v = spec.values
-        bulk, shear, c0 = material_constants(v["solid.young_modulus"], v["solid.poisson_ratio"],
-                                             v["solid.density"])
-        params = make_params(
-            h=self.h, spacing=self.spacing, density=v["solid.density"], c0=c0, shear_modulus=shear,
-            xsph_eps=v["solid.xsph_epsilon"], alpha=v["solid.artificial_viscosity_alpha"],
-            beta=v["solid.artificial_viscosity_beta"], art_eps=v["solid.artificial_stress_epsilon"],
-            art_exponent=v["solid.artificial_stress_exponent"], gravity=v["scene.gravity"],
-            skin=v["numerics.neighbour_skin"] * self.h,
-            velocity_gradient=v["solid.velocity_gradient"], nodal_integration=v["solid.nodal_integration"],
-            fit_refresh_turn=v["solid.fit_refresh_turn"], pressure=v["solid.pressure"],
-            pressure_tolerance=v["solid.pressure_tolerance"],
-            pressure_max_iterations=v["solid.pressure_max_iterations"], fit_refresh=v["solid.fit_refresh"],
-            fit_refresh_strain=v["solid.fit_refresh_strain"], volumetric_gradient=v["solid.volumetric_gradient"])
-        if v["solid.pressure"] == "implicit" and v["solid.velocity_gradient"] != "quadratic":
-            raise SceneError(f"solid.pressure = implicit solves with the quadratic fit's pair weights; "
-                             f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
-                             f"solid.pressure = explicit)")
-        if v["solid.nodal_integration"] == "gradient" and v["solid.velocity_gradient"] != "quadratic":
-            raise SceneError(f"solid.nodal_integration = gradient needs the quadratic fit's second derivatives; "
-                             f"solid.velocity_gradient = {v['solid.velocity_gradient']}: allowed: quadratic (or "
-                             f"solid.nodal_integration = plain)")
-        if v["solid.volumetric_gradient"] and v["solid.nodal_integration"] != "gradient":
-            raise SceneError("solid.volumetric_gradient = true is the volumetric part of the strain-gradient "
-                             f"integration; solid.nodal_integration = {v['solid.nodal_integration']}: allowed: "
-                             "gradient (or solid.volumetric_gradient = false)")
-        forced = v["solid.time_step"]
-        wave = self._step_wave_speed(v["solid.pressure"], c0, shear, v["solid.density"], params.gradient_bulk_modulus)
-        limit = self._stable_dt(v["solid.cfl"], wave)
-        if forced > limit:
-            raise SceneError(f"solid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
-                             f"(solid.cfl * h / (c + |v|max) with c = {wave:.4g} m/s); "
-                             f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
-        return bulk, shear, c0, params
-
-    @staticmethod
-    def _step_wave_speed(pressure, c0, shear, density, gradient_bulk_modulus=0.0):
-        """The wave speed that sets the solid's step: c0, or with the implicit pressure the deviatoric stress's
-        fastest wave (solid/implicit_pressure.py); with the strain gradient's volumetric part (stepped explicitly)
-        sqrt(c^2 + VOLUMETRIC_GRADIENT_WAVE K / rho) (its stiffness at the lattice's scale)."""
-        c = deviatoric_wave_speed(shear, density) if pressure == "implicit" else c0
-        if gradient_bulk_modulus > 0.0:
-            return math.sqrt(c * c + VOLUMETRIC_GRADIENT_WAVE * gradient_bulk_modulus / density)
-        return c
 
     def _fluid_settings(self, spec):
         """The fluid solver's settings from `spec`; SceneError if a forced fluid.time_step is above the stable limit."""
@@ -305,15 +229,9 @@ class Simulation:
                         tolerance=v["fluid.density_tolerance"], tolerance_on=v["fluid.tolerance_on"],
                         coefficient=v["fluid.correction_coefficient"], kappa=v["fluid.correction_kappa"],
                         min_iterations=v["fluid.min_iterations"], max_iterations=v["fluid.max_iterations"])
-        if v["fluid.min_iterations"] > v["fluid.max_iterations"]:
-            raise SceneError(f"fluid.min_iterations = {v['fluid.min_iterations']}: above fluid.max_iterations = "
-                             f"{v['fluid.max_iterations']}; allowed: at most fluid.max_iterations")
         forced = v["fluid.time_step"]
         if forced > 0.0:
-            saved = (self.fluid_solver.nu, self.fluid_solver.gravity)
-            self.fluid_solver.nu, self.fluid_solver.gravity = settings["nu"], settings["gravity"]
-            limit = self.fluid_solver.stable_dt(v["fluid.cfl"])
-            self.fluid_solver.nu, self.fluid_solver.gravity = saved
+            limit = self.fluid_solver.stable_dt(v["fluid.cfl"], nu=settings["nu"], gravity=settings["gravity"])
             if forced > limit:
                 raise SceneError(f"fluid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
                                  f"(min of fluid.cfl * h / |v|max, fluid.cfl * sqrt(h / |g|), 0.125 h^2 / nu); "
@@ -323,85 +241,22 @@ class Simulation:
     def _apply_fluid_settings(self):
         self.fluid_solver.configure(**self._fluid_settings(self.spec))
 
-    def _apply_solid_settings(self):
-        self.bulk_modulus, self.shear_modulus, self.sound_speed, self.solid_params = self._solid_settings(self.spec)
-
-    def _rebuild_solid_neighbours(self):
-        s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
-        nb.build(s.pos, s.pos)
-        wk.resize_pairs(nb.pairs)
-        pair_kernel_values(s.pos, s.pos, nb.start, nb.index, self.h, self.period, wk.w, wk.f)
-        self._refit_solid()
-        self.neighbour_builds += 1
-
-    def _refit_solid(self, pair_weights=True):
-        """The quadratic fit's moment rows (and, unless pair_weights is False, the pair weights made from them) at
-        the current positions. Without them the next step's gradient pass and implicit pressure use the weights the
-        last forces were made with, and the next momentum pass makes them with the new rows."""
-        s, nb, wk = self.solid, self.solid_neighbours, self.solid_work
-        wk.turn[:] = 0.0
-        wk.fit_refresh[0] = 0
-        if self.solid_params.gradient_order == 2:
-            if wk.moment_buf.shape[:2] != (wk.buf.shape[0], s.count):
-                wk.moment_buf = np.zeros((wk.buf.shape[0], s.count, MOMENT_COUNT))
-            mls_fit_rows(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows, wk.mls_order,
-                         wk.moment_buf)
-            if self.solid_params.rotate_fit:     # solid/fit_rotation.py turns these from now on
-                wk.fit_rows0[:] = wk.mls_rows
-                wk.fit_rotation[:] = np.eye(3)
-                wk.fit_deformation[:] = np.eye(3)
-                wk.spin[:] = 0.0
-            if wk.mls_weights.shape[0] != nb.pairs:
-                wk.mls_weights = np.zeros((nb.pairs, 6))
-                pair_weights = True
-            if pair_weights:
-                mls_pair_weights(s.pos, self.period, s.mass, s.rho, nb.start, nb.index, self.h, wk.mls_rows,
-                             wk.mls_weights)
-
     def _warn_if_quadratic_fit_falls_back(self):
         """The quadratic fit needs three particle layers in every direction; thinner bodies get the linear fit."""
-        if self.solid_params.gradient_order != 2:
-            return
-        moving = self.solid.movable
-        linear = int(np.count_nonzero(moving & (self.solid_work.mls_order < 2)))
+        linear = self.solid_solver.linear_fit_count()
         if linear:
             self.warnings.append(
-                f"solid.velocity_gradient = quadratic: {linear} of {int(moving.sum())} moving solid particles have "
-                f"fewer than three particle layers in some direction within their kernel and use the linear fit "
+                f"solid.velocity_gradient = quadratic: {linear} of {self.solid.moving_count} moving solid particles "
+                f"have fewer than three particle layers in some direction within their kernel and use the linear fit "
                 f"(first order) instead; a finer numerics.spacing (now {self.spacing:g} m) gives the quadratic fit "
                 f"three layers")
 
-    def _warn_about_artificial_stress(self):
-        """Gray's artificial stress suits the paper's SPH gradient and harms the quadratic fit (docs/method.md).
-
-        Re-evaluated when the settings change live (the epsilon is a live key): the previous such warning goes.
-        """
+    def _warn_about_solid_settings(self):
+        """The warnings that follow live changes of the solid's settings (solid/solver.py): the previous ones go."""
         v = self.spec.values
-        eps, gradient = v["solid.artificial_stress_epsilon"], v["solid.velocity_gradient"]
-        warning = None
-        if gradient == "sph" and eps == 0.0:
-            warning = ("solid.velocity_gradient = sph without artificial stress (solid.artificial_stress_epsilon = "
-                       "0): particles under tension may pair up (the tensile instability); 0.15 is the tested value "
-                       "(solid.scheme = gray2001 sets it)")
-        elif gradient == "quadratic" and eps > 0.0 and v["solid.poisson_ratio"] >= 0.45:
-            warning = (f"solid.artificial_stress_epsilon = {eps:g} with the quadratic fit and solid.poisson_ratio = "
-                       f"{v['solid.poisson_ratio']:g}: the artificial stress is not paired with the strain rate, and "
-                       f"in a nearly incompressible body it feeds a spurious mode that grows at fine spacings (the "
-                       f"paper's beam diverged at H/dp = 8); the quadratic fit needs none: set it to 0 (as "
-                       f"solid.scheme = quadratic_gradient and quadratic_plain do)")
-        self._artificial_stress_warning = self._replace_live_warning(self._artificial_stress_warning, warning)
-
-    def _warn_about_solid_cfl(self):
-        """The quadratic fit's stable solid.cfl is lower than Gray's gradient's (docs/method.md, the solid's step
-        factor)."""
-        v = self.spec.values
-        warning = None
-        if v["solid.velocity_gradient"] == "quadratic" and v["solid.cfl"] > QUADRATIC_FIT_TESTED_CFL:
-            warning = (f"solid.cfl = {v['solid.cfl']:g} with the quadratic fit: its stable limit lay between 0.35 and "
-                       f"0.4 on the paper's beam (Gray's gradient ran stably to 1.0 in the paper's gate, hence "
-                       f"gray2001's 0.5); {QUADRATIC_FIT_TESTED_CFL:g} or less is tested (a quadratic solid.scheme "
-                       f"sets 0.25)")
-        self._cfl_warning = self._replace_live_warning(self._cfl_warning, warning)
+        self._artificial_stress_warning = self._replace_live_warning(self._artificial_stress_warning,
+                                                                     artificial_stress_warning(v))
+        self._cfl_warning = self._replace_live_warning(self._cfl_warning, cfl_warning(v))
 
     def _replace_live_warning(self, previous, warning):
         """A warning that follows live changes: the previous one goes, the new one (if any) is added."""
@@ -410,10 +265,6 @@ class Simulation:
         if warning is not None and warning not in self.warnings:
             self.warnings.append(warning)
         return warning
-
-    def _solid_acceleration(self):
-        solid_acceleration(SolidArrays.of(self.solid), SolidNeighbours.of(self.solid_neighbours, self.period),
-                           self.solid_params, self.solid_work.buffers(), _NO_EXTERNAL, self.clamp_mirror)
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):
@@ -426,7 +277,7 @@ class Simulation:
         deferred = [k for k in overrides if self.spec.schema.params[k].rebuild]
         live_spec = self.spec.with_overrides({k: v for k, v in overrides.items() if k not in deferred})
         if self.solid is not None:
-            self._solid_settings(live_spec)
+            self.solid_solver.settings_for(live_spec.values)
         if self.fluid is not None:
             self._fluid_settings(live_spec)
         return live_spec, deferred
@@ -441,9 +292,8 @@ class Simulation:
         self._pending.update({k: overrides[k] for k in deferred})
         self.spec = live_spec
         if self.solid is not None:
-            self._apply_solid_settings()
-            self._warn_about_artificial_stress()
-            self._warn_about_solid_cfl()
+            self.solid_solver.configure(self.spec.values)
+            self._warn_about_solid_settings()
         if self.fluid is not None:
             self._apply_fluid_settings()
         if self.coupling is not None:
@@ -465,19 +315,8 @@ class Simulation:
         self._build()
 
     # ---- time stepping ------------------------------------------------------------------------------------
-    def _stable_dt(self, cfl, sound_speed):
-        vmax = float(np.sqrt((self.solid.vel ** 2).sum(axis=1).max())) if self.solid.count else 0.0
-        return cfl * self.h / (sound_speed + vmax)
-
-    def stable_solid_dt(self):
-        """dt = cfl * h / (c0 + |v|max), the solid's acoustic limit (METHOD sec. 1)."""
-        v = self.spec.values
-        return self._stable_dt(v["solid.cfl"], self._step_wave_speed(
-            v["solid.pressure"], self.sound_speed, self.shear_modulus, v["solid.density"],
-            self.solid_params.gradient_bulk_modulus))
-
     def _solid_dt(self):
-        limit = self.stable_solid_dt()
+        limit = self.solid_solver.stable_dt()
         forced = self.spec["solid.time_step"]
         if forced > 0.0:
             if forced > limit:
@@ -499,8 +338,6 @@ class Simulation:
             n = max(1, math.ceil(duration / dt_max * (1.0 - 1e-12)))
             dt = duration / n
             self._advance_solid(n, dt, self._prescribed_acceleration(self.time + 0.5 * duration))
-            self.last_solid_dt, self.last_substeps = dt, n
-            self.solid_steps += n
         if self.fluid is not None:
             self._advance_fluid(duration)
         self._relax(duration)
@@ -522,7 +359,7 @@ class Simulation:
             self.fluid_lost[new] = True
             self.warnings.append(f"t = {self.time:.6g} s: {len(new)} water particle(s) left the domain box "
                                  f"{self.domain_lo} .. {self.domain_hi} m (e.g. fluid particle {new[0]}, initially "
-                                 f"at {np.array2string(self._fluid_initial_positions[new[0]], precision=4)} m); "
+                                 f"at {np.array2string(self.fluid_initial_positions[new[0]], precision=4)} m); "
                                  f"held still where they left, {int(self.fluid_lost.sum())} in all")
         if self.fluid_lost.any():
             lost = self.fluid_lost
@@ -531,10 +368,10 @@ class Simulation:
 
     def _prescribed_acceleration(self, t):
         """The scene's prescribed load on the solid at time t, as an acceleration per particle, ramped in as
-        (1 - cos(pi t / T)) / 2 over the ramp time T; none (_NO_EXTERNAL) in scenes without one. Held over an
+        (1 - cos(pi t / T)) / 2 over the ramp time T; none (NO_EXTERNAL) in scenes without one. Held over an
         outer step."""
         if self.solid_load is None:
-            return _NO_EXTERNAL
+            return NO_EXTERNAL
         ramp = 1.0
         if t < self.load_ramp_time:
             ramp = 0.5 * (1.0 - math.cos(math.pi * t / self.load_ramp_time))
@@ -543,64 +380,33 @@ class Simulation:
     def _relax(self, duration):
         """The static cases' relaxation (Built.damping_rate, Built.fluid_damping_rate; 0 elsewhere, costing
         nothing): dv/dt = -c v over the outer step just taken, taken exactly (v *= exp(-c duration)), for the solid
-        and for the water. It settles a statically loaded case; its rest state does not depend on c. Scaling every
-        solid velocity keeps a mirrored clamp's ghosts the odd image of the body.
-
-        With the implicit pressure the solid's stored velocity is the leapfrog's without the pressure's last half
-        impulse: at rest it is dt/2 of the deviatoric and external acceleration, which the pressure's impulse
-        cancels, not zero. The relaxation acts on the velocity the particles have, v + u/2 (u the last step's
-        pressure impulse, solid/implicit_pressure.py): scaling v alone held a settled strip off its rest state, by
-        more the stronger the relaxation (+11.31 % at 1.0 of critical, +11.68 % at 0.25 against FE, +11.82 % with
-        the explicit pressure at either; docs/validation/OPEN.md 6)."""
+        and for the water (the solid's on the velocity its particles have: SolidSolver.relax). It settles a
+        statically loaded case; its rest state does not depend on c."""
         if self.damping_rate > 0.0:
-            keep = math.exp(-self.damping_rate * duration)
-            impulse = self.solid_work.pressure_vectors[_PRESSURE_IMPULSE]
-            if len(impulse):
-                self.solid.vel += 0.5 * impulse
-                self.solid.vel *= keep
-                self.solid.vel -= 0.5 * impulse
-            else:
-                self.solid.vel *= keep
+            self.solid_solver.relax(math.exp(-self.damping_rate * duration))
         if self.fluid_damping_rate > 0.0:
             self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
 
-    def leapfrog_arguments(self, n, force_first, dt, ext_acc=_NO_EXTERNAL):
-        """The arguments of the solid scheme's driver (solid_drivers(solid_params)[0]) for `n` steps of `dt`, as
-        they are now (a rebuild or refit replaces the list's arrays and the pair cache)."""
-        return (n, force_first, dt, SolidArrays.of(self.solid), SolidNeighbours.of(self.solid_neighbours, self.period),
-                self.solid_params, self.solid_work.buffers(), ext_acc, self.clamp_mirror)
-
-    def _advance_solid(self, n, dt, ext_acc=_NO_EXTERNAL):
-        wk = self.solid_work
-        leapfrog = solid_drivers(self.solid_params)[0]
-        done, force = 0, False
-        capped = int(wk.pressure_stats[3])
-        while done < n:
-            k = leapfrog(*self.leapfrog_arguments(n - done, force, dt, ext_acc))
-            done += k
-            if wk.fit_refresh[0]:      # the neighbourhoods turned: new fit rows, same list (its skin test stands)
-                self._refit_solid(pair_weights=not (self.solid_params.implicit_pressure
-                                                    or self.solid_params.rotate_fit))
-                force = False
-            elif done < n:
-                self._rebuild_solid_neighbours()
-                force = True
-        if capped == 0 and wk.pressure_stats[3] > 0:    # once per run; summary.json counts them all
+    def _advance_solid(self, n, dt, ext_acc=NO_EXTERNAL):
+        """`n` solid steps of `dt` (SolidSolver.advance), counted."""
+        solver = self.solid_solver
+        if solver.advance(n, dt, ext_acc):    # once per run; summary.json counts them all
+            prm = solver.params
             self.warnings.append(f"t = {self.time:.6g} s: a solid step reached solid.pressure_max_iterations = "
-                                 f"{self.solid_params.pressure_max_iterations} with its residual above "
-                                 f"solid.pressure_tolerance = {self.solid_params.pressure_tolerance:g} (summary.json "
+                                 f"{prm.pressure_max_iterations} with its residual above "
+                                 f"solid.pressure_tolerance = {prm.pressure_tolerance:g} (summary.json "
                                  f"solid_pressure_solve.capped_steps counts them)")
+        self.last_solid_dt, self.last_substeps = dt, n
+        self.solid_steps += n
 
     def _advance_coupled_solid(self, fluid_dt):
         """Satake et al. sec. 2.3: the fluid's push from the step just taken, held over the solid's sub-steps."""
         ext = self.coupling.push(fluid_dt)
         self.watchdog.solid_speed_before_substeps()
-        n, warning = self.coupling.substeps(fluid_dt, self.stable_solid_dt())
+        n, warning = self.coupling.substeps(fluid_dt, self.solid_solver.stable_dt())
         if warning:
             self.warnings.append(f"t = {self.time:.6g} s: {warning}")
         self._advance_solid(n, fluid_dt / n, ext)
-        self.last_solid_dt, self.last_substeps = fluid_dt / n, n
-        self.solid_steps += n
 
     def stable_fluid_dt(self):
         """The fluid's stable step (fluid.stepper.FluidSolver.stable_dt)."""
@@ -689,11 +495,16 @@ class Simulation:
     def pressure_solve_stats(self):
         """The implicit pressure's solves so far (solid.pressure = implicit): steps, iterations per step, the most in
         one step, steps that hit solid.pressure_max_iterations; None without it."""
-        if self.solid is None or not self.solid_params.implicit_pressure:
-            return None
-        steps, iterations, most, capped = (int(k) for k in self.solid_work.pressure_stats)
-        return {"steps": steps, "iterations_per_step": iterations / steps if steps else 0.0,
-                "iterations_max": most, "capped_steps": capped}
+        return None if self.solid is None else self.solid_solver.pressure_solve_stats()
+
+    @property
+    def neighbour_builds(self):
+        """The solid's neighbour-list builds so far (the fluid's: fluid_solver.builds)."""
+        return self.solid_solver.neighbour_builds if self.solid_solver is not None else 0
+
+    def initial_positions(self, phase):
+        """(N, 3) m, where the particles of `phase` ('solid' or 'fluid') were at t = 0."""
+        return self.solid_solver.initial_positions if phase == "solid" else self.fluid_initial_positions
 
     @property
     def phases(self):
@@ -717,18 +528,9 @@ class Simulation:
         return out
 
     def solid_velocity(self):
-        """The solid particles' velocity at the end of the step, (N, 3) m/s: what every output reports.
-
-        With the implicit pressure the stored velocity is the leapfrog's without the pressure's last half impulse
-        (solid/implicit_pressure.py): v + u/2, u the last step's pressure impulse, is the particles' velocity, as
-        the relaxation takes it (_relax). Reported as stored, a body at rest under load showed a kinetic energy of
-        17 % of its strain energy (Antoci's gate under its water's pressure), and the paper's swinging beam a total
-        energy that rose and fell by 4.6 % in every swing where v + u/2 keeps it within 0.2 % (2026-12-05). With the
-        explicit pressure: the stored array itself, not a copy (read it, do not write it)."""
-        impulse = self.solid_work.pressure_vectors[_PRESSURE_IMPULSE]
-        if len(impulse):
-            return self.solid.vel + 0.5 * impulse
-        return self.solid.vel
+        """The solid particles' velocity at the end of the step, (N, 3) m/s, as every output reports it
+        (SolidSolver.velocity: with the implicit pressure v + u/2; else the stored array, to read, not write)."""
+        return self.solid_solver.velocity()
 
     def energies(self):
         """{'kinetic_energy', 'strain_energy'} in J for the phases the scene has (the solid's kinetic energy from
@@ -737,12 +539,7 @@ class Simulation:
         if self.solid is not None:
             s = self.solid
             out["kinetic_energy"] = kinetic_energy(s.mass, self.solid_velocity(), s.movable)
-            out["strain_energy"] = strain_energy(s.mass, s.rho, s.stress, s.pressure, self.shear_modulus,
-                                                 self.bulk_modulus)
-            if len(s.stress_gradient):
-                out["strain_energy"] += gradient_strain_energy(s.mass, s.rho, s.stress_gradient,
-                                                               self.solid_params.cell_moment, self.shear_modulus,
-                                                               self.solid_params.gradient_bulk_modulus)
+            out["strain_energy"] = self.solid_solver.strain_energy()
         if self.fluid is not None:
             f = self.fluid
             out["fluid_kinetic_energy"] = float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())

@@ -77,14 +77,14 @@ def write_vtk_snapshot(sim, directory, index):
     if sim.solid is not None:
         s = sim.solid
         write_vtu(directory / f"solid_{index:05d}.vtu", s.pos, {
-            "velocity": sim.solid_velocity(), "displacement": s.pos - sim._initial_positions, "density": s.rho,
+            "velocity": sim.solid_velocity(), "displacement": s.pos - sim.initial_positions("solid"), "density": s.rho,
             "pressure": s.pressure, "stress": full_stress(s.stress, s.pressure), "von_mises": von_mises(s.stress),
             "movable": s.movable})
         phases.append("solid")
     if sim.fluid is not None:
         f = sim.fluid
         write_vtu(directory / f"fluid_{index:05d}.vtu", f.pos, {
-            "velocity": f.vel, "displacement": f.pos - sim._fluid_initial_positions, "density": f.rho,
+            "velocity": f.vel, "displacement": f.pos - sim.initial_positions("fluid"), "density": f.rho,
             "pressure": f.pressure})
         phases.append("fluid")
     if sim.walls is not None and not (directory / "walls.vtu").exists():

@@ -1,7 +1,8 @@
 """The package's shape, checked statically from the sources: the layering that the folders promise holds.
 
 - no import cycle between the modules of sph_fsi_core (imports inside functions count too);
-- no module imports another module's private (underscore) name;
+- no module imports another module's private (underscore) name, nor reads or writes a private attribute that
+  another module's classes own (`sim._x` where `self._x` is set in simulation.py, read from diagnostics.py);
 - the physics packages (numerics, solid, fluid) and coupling import nothing above them: not the scenes, the time
   loop, the run loop or the validation code;
 - sph_fsi_core never imports sph_fsi (the node, the CLI, the recorders only read the core's state).
@@ -82,6 +83,39 @@ def private_imports(known, edges):
             if n.startswith("_") and not n.startswith("__") and t in known]
 
 
+def private_attributes_owned(path):
+    """Private attribute names a module's classes own: assigned as `self._x` (or `cls._x`) or declared in a class
+    body (methods included)."""
+    owned = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name)
+                and node.value.id in ("self", "cls")):
+            owned.add(node.attr)
+        elif isinstance(node, ast.ClassDef):
+            for item in node.body:
+                if isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    owned.add(item.name)
+                elif isinstance(item, (ast.Assign, ast.AnnAssign)):
+                    targets = item.targets if isinstance(item, ast.Assign) else [item.target]
+                    owned |= {t.id for t in targets if isinstance(t, ast.Name)}
+    return {name for name in owned if name.startswith("_") and not name.startswith("__")}
+
+
+def foreign_private_attributes(paths):
+    """`obj._x` outside `self`/`cls` where `_x` is owned by another module's classes: [(module path, line, name)]."""
+    owners = {}
+    for path in paths:
+        for name in private_attributes_owned(path):
+            owners.setdefault(name, set()).add(path)
+    bad = []
+    for path in paths:
+        for node in ast.walk(ast.parse(path.read_text())):
+            if (isinstance(node, ast.Attribute) and node.attr in owners and path not in owners[node.attr]
+                    and not (isinstance(node.value, ast.Name) and node.value.id in ("self", "cls"))):
+                bad.append((path.name, node.lineno, node.attr))
+    return sorted(bad)
+
+
 def layer_violations(known, edges, core):
     bad = []
     for m in sorted(known):
@@ -109,6 +143,12 @@ def test_no_module_imports_a_private_name():
         assert private_imports(known, edges) == [], package
 
 
+def test_no_module_reaches_into_another_modules_private_attributes():
+    paths = [p for package in ("sph_fsi_core", "sph_fsi", "bench") for p in (REPO / package).rglob("*.py")]
+    assert len(paths) > 40
+    assert foreign_private_attributes(paths) == []
+
+
 def test_physics_does_not_import_what_is_built_on_it():
     known, edges = graph(REPO, "sph_fsi_core")
     assert any(m.startswith("sph_fsi_core.solid.") for m in known)
@@ -123,7 +163,9 @@ def test_the_checks_catch_each_fault(tmp_path):
         "bad/c.py": "_secret = 1\n",
         "bad/solid/__init__.py": "",
         "bad/solid/stepper.py": "from ..simulation import Simulation\nimport sph_fsi.node\n",
-        "bad/simulation.py": "",
+        "bad/simulation.py": "class Sim:\n    def __init__(self):\n        self._positions = 0\n"
+                             "    def copy(self, other):\n        return other._positions\n",
+        "bad/diagnostics.py": "def trip(sim):\n    return sim._positions\n",
     }
     for rel, text in files.items():
         path = tmp_path / rel
@@ -134,3 +176,5 @@ def test_the_checks_catch_each_fault(tmp_path):
     assert private_imports(known, edges) == ["bad.b imports bad.c._secret"]
     assert layer_violations(known, edges, "bad") == ["bad.solid.stepper imports bad.simulation",
                                                      "bad.solid.stepper imports sph_fsi.node"]
+    assert foreign_private_attributes(sorted((tmp_path / "bad").rglob("*.py"))) == [("diagnostics.py", 2,
+                                                                                       "_positions")]

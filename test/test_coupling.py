@@ -125,7 +125,7 @@ def test_pressure_model_hydrostatic_load_direction():
 def test_substep_ratio():
     sim = Simulation(load_scene("elastic_gate", COARSE))
     c = sim.coupling
-    dts = sim.stable_solid_dt()
+    dts = sim.solid_solver.stable_dt()
     n, warning = c.substeps(1.0e-3, dts)
     assert n == math.ceil(1.0e-3 / dts) and warning is None
     c.configure("seed", 10.0, 10 * n)

@@ -33,11 +33,11 @@ def beam():
 def _solve(sim, vel, pressure, movable=None, mirror=None, dt=None, tolerance=1e-12):
     """The new velocity, the new pressure (the old plus the solution's change, which the solve keeps as the next
     warm start) and the solve's counters; rho and the pressure array must come back untouched."""
-    s, nb, wk, prm = sim.solid, sim.solid_neighbours, sim.solid_work, sim.solid_params
+    s, nb, wk, prm = sim.solid, sim.solid_solver.neighbours, sim.solid_solver.work, sim.solid_solver.params
     vel, p_in, rho = vel.copy(), pressure.copy(), prm.rho0 + pressure / prm.c0 ** 2
     rho_in = rho.copy()
     movable = s.movable if movable is None else movable
-    mirror = sim.clamp_mirror if mirror is None else mirror
+    mirror = sim.solid_solver.clamp_mirror if mirror is None else mirror
     dt = sim.last_solid_dt if dt is None else dt
     stats = np.zeros(4, dtype=np.int64)
     scalars = np.zeros((6, s.count))
@@ -53,7 +53,7 @@ def _random_state(sim, seed):
     n = sim.solid.count
     vel = rng.normal(scale=0.1, size=(n, 3))
     pressure = rng.normal(scale=1e4, size=n)
-    for g, m in enumerate(sim.clamp_mirror):      # the ghosts as the stepper leaves them
+    for g, m in enumerate(sim.solid_solver.clamp_mirror):      # the ghosts as the stepper leaves them
         if m >= 0:
             vel[g] = -vel[m]
     pressure[~sim.solid.movable] = 0.0            # the mirrored clamp's particles carry no stress
@@ -61,7 +61,7 @@ def _random_state(sim, seed):
 
 
 def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
-    s, nb, wk, prm = beam.solid, beam.solid_neighbours, beam.solid_work, beam.solid_params
+    s, nb, wk, prm = beam.solid, beam.solid_solver.neighbours, beam.solid_solver.work, beam.solid_solver.params
     vel0, p0 = _random_state(beam, 1)
     dt = beam.last_solid_dt
     vel, p, stats = _solve(beam, vel0, p0)
@@ -76,13 +76,13 @@ def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
     # the impulse: pair forces of the new pressure with the step's volumes, ghosts folded onto their images
     force = np.zeros((s.count, 3))
     ip.pressure_forces(p, s.mass / rho0_step, nb.start, nb.index, wk.mls_weights, wk.buf, force)
-    for g, m in enumerate(beam.clamp_mirror):
+    for g, m in enumerate(beam.solid_solver.clamp_mirror):
         if m >= 0:
             force[m] -= force[g]
     change = vel - vel0
     assert np.abs(change[body] - dt * force[body] / s.mass[body, None]).max() < 1e-9 * np.abs(change).max()
-    ghosts = beam.clamp_mirror >= 0
-    assert np.array_equal(vel[ghosts], -vel[beam.clamp_mirror[ghosts]])
+    ghosts = beam.solid_solver.clamp_mirror >= 0
+    assert np.array_equal(vel[ghosts], -vel[beam.solid_solver.clamp_mirror[ghosts]])
     assert np.array_equal(p[ghosts], p0[ghosts])
 
 
@@ -98,7 +98,7 @@ def test_pair_forces_conserve_momentum_on_a_free_body(beam):
 
 
 def test_the_operator_is_symmetric_positive_definite(beam):
-    s, nb, wk, prm = beam.solid, beam.solid_neighbours, beam.solid_work, beam.solid_params
+    s, nb, wk, prm = beam.solid, beam.solid_solver.neighbours, beam.solid_solver.work, beam.solid_solver.params
     n, dt = s.count, 3.0 * beam.last_solid_dt
     volume = s.mass / s.rho
     inv_k = 1.0 / (prm.c0 ** 2 * s.rho)
@@ -109,7 +109,7 @@ def test_the_operator_is_symmetric_positive_definite(beam):
     for col, i in enumerate(index):
         x[:] = 0.0
         x[i] = 1.0
-        ip._apply(x, volume, s.rho, prm.c0 ** 2, s.mass, s.movable, beam.clamp_mirror, nb.start, nb.index,
+        ip._apply(x, volume, s.rho, prm.c0 ** 2, s.mass, s.movable, beam.solid_solver.clamp_mirror, nb.start, nb.index,
                   wk.mls_weights, dt, wk.buf, wk.scalar_buf, force, u, theta, y)
         a[:, col] = y[index]
     assert np.abs(a - a.T).max() < 1e-12 * np.abs(a).max()
@@ -121,12 +121,12 @@ def test_the_operator_is_symmetric_positive_definite(beam):
 def test_the_step_is_set_by_the_deviatoric_waves():
     explicit = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", "solid.pressure=explicit"]))
     implicit = Simulation(load_scene("cantilever", BEAM))
-    shear, rho0, cfl, h = implicit.shear_modulus, implicit.spec["solid.density"], implicit.spec["solid.cfl"], implicit.h
+    shear, rho0, cfl, h = implicit.solid_solver.settings.shear_modulus, implicit.spec["solid.density"], implicit.spec["solid.cfl"], implicit.h
     vmax = np.sqrt((implicit.solid.vel ** 2).sum(axis=1).max())     # the beam starts moving
-    assert implicit.stable_solid_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
+    assert implicit.solid_solver.stable_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
                                                        rel=1e-12)
-    assert explicit.stable_solid_dt() == pytest.approx(cfl * h / (explicit.sound_speed + vmax), rel=1e-12)
-    assert implicit.stable_solid_dt() / explicit.stable_solid_dt() > 5.5      # nu = 0.49
+    assert explicit.solid_solver.stable_dt() == pytest.approx(cfl * h / (explicit.solid_solver.settings.sound_speed + vmax), rel=1e-12)
+    assert implicit.solid_solver.stable_dt() / explicit.solid_solver.stable_dt() > 5.5      # nu = 0.49
 
 
 def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_take():
@@ -135,12 +135,12 @@ def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_tak
     def run(pressure, chunks, steps):
         sim = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", f"solid.pressure={pressure}",
                                                    "scene.gravity=[0, 0, 0]"]))
-        dt = 4.0 * sim.stable_solid_dt() if pressure == "explicit" else sim.stable_solid_dt()
+        dt = 4.0 * sim.solid_solver.stable_dt() if pressure == "explicit" else sim.solid_solver.stable_dt()
         sim.solid.vel[:] = 0.0
         sim.solid.rho[sim.solid.movable] *= 1.01
         worst = []
         for _ in range(chunks):
-            sim._advance_solid(steps, dt)
+            sim.solid_solver.advance(steps, dt)
             worst.append(float(np.abs(sim.solid.rho[sim.solid.movable] / sim.spec["solid.density"] - 1.0).max()))
             if not worst[-1] < 0.02:
                 break

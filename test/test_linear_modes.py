@@ -102,10 +102,10 @@ def test_assembled_plate_has_its_time_stepped_static_answer():
 
 @pytest.mark.parametrize("nu", [0.3, 0.49])
 def test_volumetric_gradient_step_keeps_the_default_margin(nu):
-    """With solid.volumetric_gradient the step's wave speed takes VOLUMETRIC_GRADIENT_WAVE K / rho more (simulation.py):
+    """With solid.volumetric_gradient the step's wave speed takes VOLUMETRIC_GRADIENT_WAVE K / rho more (solid/solver.py):
     cfl 0.25 then stays at or below the fraction of the linear limit it runs at without it (0.25 / 0.433)."""
     import math
-    from sph_fsi_core.simulation import VOLUMETRIC_GRADIENT_WAVE
+    from sph_fsi_core.solid.solver import VOLUMETRIC_GRADIENT_WAVE
     limit = linear_modes.default_scheme_stable_cfl([f"solid.poisson_ratio={nu}"], volumetric_gradient=True)
     bulk_over_dev = (1.0 + nu) / (2.0 * (1.0 - 2.0 * nu))       # (K / rho) / c_dev^2 = 3 K / 4 G
     effective = 0.25 / math.sqrt(1.0 + VOLUMETRIC_GRADIENT_WAVE * bulk_over_dev)

@@ -187,7 +187,7 @@ def test_the_scheme_is_a_declared_key_that_waits_for_a_reset():
 
 def test_simulation_apply_defers_a_scheme_change_to_the_reset_and_keeps_explicit_keys():
     sim = Simulation(load_scene("cantilever", SMALL_BEAM + [("solid.cfl", 0.3)]))
-    assert sim.solid_params.gradient_order == 2 and sim.solid_params.cell_moment > 0.0
+    assert sim.solid_solver.params.gradient_order == 2 and sim.solid_solver.params.cell_moment > 0.0
     live_spec, deferred = sim.check({"solid.scheme": "gray2001"})
     assert deferred == ["solid.scheme"]
     assert sim.apply({"solid.scheme": "gray2001"}) == ["solid.scheme"]
@@ -195,5 +195,5 @@ def test_simulation_apply_defers_a_scheme_change_to_the_reset_and_keeps_explicit
     sim.reset()
     assert sim.spec["solid.scheme"] == "gray2001"
     assert _scheme_values(sim.spec) == {**DOCUMENTED["gray2001"], "solid.cfl": 0.3}      # cfl was set explicitly
-    assert sim.solid_params.gradient_order != 2 and sim.solid_params.cell_moment == 0.0
+    assert sim.solid_solver.params.gradient_order != 2 and sim.solid_solver.params.cell_moment == 0.0
     assert not sim.warnings, sim.warnings

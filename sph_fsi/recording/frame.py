@@ -50,6 +50,10 @@ class Frame:
             self._parts = parts
         return self._parts
 
+    def forget_parts(self):
+        """Drop the computed parts, so the next read of `parts` pays for them again (bench/recording_cost.py)."""
+        self._parts = None
+
 
 @dataclass
 class Final:

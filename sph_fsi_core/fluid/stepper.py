@@ -299,11 +299,14 @@ class FluidSolver:
         v = self.fluid.vel
         return float(np.sqrt((v * v).sum(axis=1).max())) if len(v) else 0.0
 
-    def stable_dt(self, cfl):
+    def stable_dt(self, cfl, nu=None, gravity=None):
         """min of: cfl h / |v|max (advection), cfl sqrt(h / |g|) (body force), 0.125 h^2 / nu (viscous diffusion,
-        Morris et al. 1997). At rest only the last two bound it."""
-        limits = [0.125 * self.h * self.h / self.nu]
-        g = math.sqrt(sum(x * x for x in self.gravity))
+        Morris et al. 1997). At rest only the last two bound it. `nu`, `gravity`: other settings than the solver's
+        (a change being checked before it is applied)."""
+        nu = self.nu if nu is None else nu
+        gravity = self.gravity if gravity is None else gravity
+        limits = [0.125 * self.h * self.h / nu]
+        g = math.sqrt(sum(x * x for x in gravity))
         if g > 0.0:
             limits.append(cfl * math.sqrt(self.h / g))
         vmax = self.max_speed()

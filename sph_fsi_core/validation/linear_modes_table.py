@@ -134,11 +134,11 @@ def report():
         lines.append(f"| Antoci's gate | {label} mm | {100 * base['error']:+.3f} % | {stepped:+.2f} % | "
                      f"{100 * full['error']:+.3f} % | {time.perf_counter() - start:.1f} |")
     lines += ["", "## The default scheme's stable step", "",
-              "The largest `solid.cfl` (dt = cfl h / c_dev, c_dev = sqrt(4 G / 3 rho): simulation.py) at which the "
+              "The largest `solid.cfl` (dt = cfl h / c_dev, c_dev = sqrt(4 G / 3 rho): solid/solver.py) at which the "
               "default scheme's explicit part (the deviatoric stress and its gradient; the pressure is implicit) is "
               "linearly stable on the beam at rest: 2 / omega_max of its deviatoric stiffness, the mirrored clamp's "
               "ghosts following their images. The scheme runs at 0.25. With `solid.volumetric_gradient` the strain "
-              "gradient's volumetric part is stepped explicitly too (its limit in the last column; simulation.py's "
+              "gradient's volumetric part is stepped explicitly too (its limit in the last column; solid/solver.py's "
               "VOLUMETRIC_GRADIENT_WAVE keeps the step's margin from it).", "",
               "| nu | H/dp | largest stable cfl | with the volumetric gradient | wall [s] |", "|---|---|---|---|---|"]
     for nu in (*CANTILEVER_SHAPE_POISSON[:2], 0.45, CANTILEVER_SHAPE_POISSON[2]):
