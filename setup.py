@@ -15,6 +15,8 @@ setup(
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),
         ('share/' + package_name + '/config', glob('config/*.yaml')),
+        # geometry scenes to start from, with their mesh files (read relative to the scene file)
+        ('share/' + package_name + '/config/examples', glob('config/examples/*.yaml') + glob('config/examples/*.stl')),
     ],
     # Dependencies are declared once, in requirements.txt (pip) and package.xml (rosdep).
     install_requires=['setuptools'],

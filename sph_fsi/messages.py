@@ -1,4 +1,5 @@
-"""NumPy <-> ROS messages: particle clouds as sensor_msgs/PointCloud2, simulated time as builtin_interfaces/Time.
+"""NumPy <-> ROS messages: particle clouds as sensor_msgs/PointCloud2, simulated time as builtin_interfaces/Time,
+probe readings as their topics' messages (`probe_message`; the topics and types: sph_fsi.points).
 
 Pure functions, no node. Clouds are built with a NumPy structured array whose layout is the PointCloud2 point
 layout (little-endian, point_step padded to a multiple of 4), and `msg.data` is filled with
@@ -11,14 +12,15 @@ import array
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from sensor_msgs.msg import PointCloud2, PointField
+from geometry_msgs.msg import Point, PointStamped, Vector3, Vector3Stamped, Wrench, WrenchStamped
+from sensor_msgs.msg import FluidPressure, PointCloud2, PointField
 from std_msgs.msg import Header
 
 from .points import PARTICLE_DTYPE, PHASE_FLUID, PHASE_SOLID, WALL_DTYPE  # layouts, defined ROS-free
 
 __all__ = ["PHASE_FLUID", "PHASE_SOLID", "PARTICLE_DTYPE", "WALL_DTYPE", "particle_array", "wall_array",
            "structured_to_cloud", "particles_to_cloud", "walls_to_cloud", "cloud_to_structured",
-           "stamp_from_seconds", "seconds_from_stamp"]
+           "stamp_from_seconds", "seconds_from_stamp", "probe_message"]
 
 # NumPy (kind, itemsize) <-> PointField datatype
 _TO_POINTFIELD = {("i", 1): PointField.INT8, ("u", 1): PointField.UINT8, ("i", 2): PointField.INT16,
@@ -120,3 +122,21 @@ def cloud_to_structured(msg):
         raise ValueError(f"data has {raw.size} bytes, expected {n * msg.point_step}")
     return np.frombuffer(raw[: n * msg.point_step].tobytes(), dtype=dtype, count=n)
 
+
+def _vector3(v):
+    return Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2]))
+
+
+def probe_message(quantity, value, header):
+    """One probe topic's message (sph_fsi.points: QUANTITY_TYPES) for a reading's `value`, with `header`:
+    displacement, velocity -> Vector3Stamped; pressure -> FluidPressure (variance 0); surface -> PointStamped;
+    force -> WrenchStamped (torque 0)."""
+    if quantity in ("displacement", "velocity"):
+        return Vector3Stamped(header=header, vector=_vector3(value))
+    if quantity == "pressure":
+        return FluidPressure(header=header, fluid_pressure=float(value), variance=0.0)
+    if quantity == "surface":
+        return PointStamped(header=header, point=Point(x=float(value[0]), y=float(value[1]), z=float(value[2])))
+    if quantity == "force":
+        return WrenchStamped(header=header, wrench=Wrench(force=_vector3(value), torque=Vector3()))
+    raise ValueError(f"probe quantity {quantity!r}: no message type")

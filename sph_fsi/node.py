@@ -29,9 +29,10 @@ plus scene, qos and the recording ones) are accepted and take effect at the next
 once. A bad value is refused with a reason naming the key and the allowed range. Changing `scene` reloads the new
 scene's own values at the next ~/reset.
 
-Topics exist only for what the scene has (see INTERFACE.md): ~/particles (moving particles of every phase),
-~/walls (fixed particles; transient-local, after every build), ~/tip_displacement (a probe named 'tip'),
-~/strain_energy (a solid), /clock and /diagnostics (always). Nothing is published from a diverged state.
+Topics exist only for what the scene has (sph_fsi.publishing, README.md "ROS 2 node"): ~/particles (moving
+particles of every phase), ~/walls (fixed particles; transient-local, after every build), ~/tip_displacement (a
+probe named 'tip'), ~/strain_energy (a solid), ~/probes/<name>/<quantity> (one per quantity of each of the
+scene's probes), /clock and /diagnostics (always). Nothing is published from a diverged state.
 """
 import os
 import signal

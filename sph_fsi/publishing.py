@@ -3,23 +3,33 @@ a simulation, stamped with simulated time. Called from the simulation thread onl
 
 ~/particles (PointCloud2, moving particles of every phase), ~/walls (PointCloud2, fixed particles; reliable,
 transient-local, after every build), ~/tip_displacement (Vector3Stamped, a probe named 'tip'), ~/strain_energy
-(Float64, a solid), /clock and /diagnostics (always).
+(Float64, a solid), one topic per probe quantity, ~/probes/<name>/<quantity> (displacement and velocity:
+Vector3Stamped, pressure: FluidPressure, surface: PointStamped, force: WrenchStamped; sph_fsi.points), /clock and
+/diagnostics (always). A frame's messages all carry the simulated time at the end of its last outer step.
 """
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from geometry_msgs.msg import Vector3, Vector3Stamped
+from geometry_msgs.msg import PointStamped, Vector3, Vector3Stamped, WrenchStamped
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import PointCloud2
+from sensor_msgs.msg import FluidPressure, PointCloud2
 from std_msgs.msg import Float64, Header
 
-from .messages import stamp_from_seconds, structured_to_cloud, walls_to_cloud
-from .points import particle_points, topic_plan, wall_positions
+from .messages import probe_message, stamp_from_seconds, structured_to_cloud, walls_to_cloud
+from .points import particle_points, probe_readings, probe_values, topic_plan, topic_type, wall_positions
 
-__all__ = ["Publishing", "TOPIC_TYPES", "LEVELS"]
+__all__ = ["Publishing", "TOPIC_TYPES", "LEVELS", "topic_class"]
 
 TOPIC_TYPES = {"particles": PointCloud2, "walls": PointCloud2, "tip_displacement": Vector3Stamped,
                "strain_energy": Float64}
+_CLASSES = {"sensor_msgs/msg/PointCloud2": PointCloud2, "geometry_msgs/msg/Vector3Stamped": Vector3Stamped,
+            "std_msgs/msg/Float64": Float64, "sensor_msgs/msg/FluidPressure": FluidPressure,
+            "geometry_msgs/msg/PointStamped": PointStamped, "geometry_msgs/msg/WrenchStamped": WrenchStamped}
 LEVELS = {"ok": DiagnosticStatus.OK, "warn": DiagnosticStatus.WARN, "error": DiagnosticStatus.ERROR}
+
+
+def topic_class(name):
+    """A topic_plan name ('particles', 'probes/tip/velocity') -> its message class."""
+    return _CLASSES[topic_type(name)]
 
 
 class Publishing:
@@ -52,7 +62,7 @@ class Publishing:
         latched = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
         for name in sorted(want - set(self.pubs)):
-            self.pubs[name] = self.node.create_publisher(TOPIC_TYPES[name], f"~/{name}",
+            self.pubs[name] = self.node.create_publisher(topic_class(name), f"~/{name}",
                                                          latched if name == "walls" else stream_qos)
 
     def publish_walls(self, sim, frame_id):
@@ -75,6 +85,10 @@ class Publishing:
                 d = sim.probe_displacements()["tip"]
                 pub.publish(Vector3Stamped(header=header, vector=Vector3(x=float(d[0]), y=float(d[1]),
                                                                          z=float(d[2]))))
+            for topic, quantity, value in probe_values(probe_readings(sim)):
+                pub = self.pubs.get(topic)
+                if pub is not None:
+                    pub.publish(probe_message(quantity, value, header))
             pub = self.pubs.get("strain_energy")
             if pub is not None:
                 pub.publish(Float64(data=float(sim.energies()["strain_energy"])))

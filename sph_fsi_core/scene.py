@@ -15,6 +15,7 @@ from pathlib import Path
 import yaml
 
 from . import memory_guard
+from .geometry.parts import LISTS, NAME_RE, check_required
 from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError, check_combinations
 from .scenes import BUILDERS, DEFAULT_SCENE
 from .solid.schemes import scheme_values
@@ -63,6 +64,31 @@ def parse_yaml(text, origin="<string>"):
         raise SceneError(f"{origin}: not valid YAML{where}: {problem}") from None
 
 
+def _flatten_list(section, body, flat):
+    """A list section (geometry.parts.LISTS: parts, probes, judge) as keys `section.<name>.<key>`."""
+    if not isinstance(body, list):
+        raise SceneError(f"{section}: expected a list of mappings, each with a name, got {type(body).__name__}")
+    seen = set()
+    for i, entry in enumerate(body):
+        if not isinstance(entry, dict):
+            raise SceneError(f"{section}[{i}]: expected a mapping of keys, got {type(entry).__name__}")
+        name = entry.get("name")
+        if not isinstance(name, str) or not NAME_RE.match(name):
+            raise SceneError(f"{section}[{i}].name = {name!r}: expected a name; allowed: letters, digits and '_', "
+                             f"starting with a letter (it names the entry's keys and its ROS parameters)")
+        if name in seen:
+            raise SceneError(f"{section}.{name}: duplicate name ({section}[{i}]); allowed: each name once")
+        seen.add(name)
+        for key, value in entry.items():
+            if key == "name":
+                continue
+            if not isinstance(key, str):
+                raise SceneError(f"{section}.{name}: key {key!r} is not a string")
+            if isinstance(value, dict):
+                raise SceneError(f"{section}.{name}.{key}: nested sections are not allowed")
+            flat[f"{section}.{name}.{key}"] = value
+
+
 def _flatten(tree, origin):
     if tree is None:
         raise SceneError(f"{origin}: the scene is empty")
@@ -72,6 +98,9 @@ def _flatten(tree, origin):
     for section, body in tree.items():
         if not isinstance(section, str):
             raise SceneError(f"{origin}: section name {section!r} is not a string")
+        if section in LISTS:
+            _flatten_list(section, body, flat)
+            continue
         if not isinstance(body, dict):
             raise SceneError(f"{section}: expected a mapping of keys, got {type(body).__name__}")
         for key, value in body.items():
@@ -87,8 +116,8 @@ def parse_override(text):
         raise SceneError(f"--set {text!r}: expected KEY=VALUE")
     key, raw = text.split("=", 1)
     key = key.strip()
-    if not re.fullmatch(r"[a-z_]+\.[a-z0-9_]+", key):
-        raise SceneError(f"--set {text!r}: KEY must look like section.name")
+    if not re.fullmatch(r"[a-z_]+\.[A-Za-z0-9_]+(\.[a-z0-9_]+)?", key):
+        raise SceneError(f"--set {text!r}: KEY must look like section.name (or parts.<part>.name)")
     return key, parse_yaml(raw, origin=f"--set {key}") if raw.strip() else ""
 
 
@@ -134,9 +163,7 @@ class SceneSpec:
     def name(self):
         return self.values["scene.name"]
 
-    @property
-    def phases(self):
-        return BUILDERS[self.builder].PHASES
+    phases: tuple = ()
 
     def with_overrides(self, overrides):
         """A new spec with `overrides` ({key: value}) applied and validated. The keys set so far (file, earlier
@@ -151,9 +178,12 @@ def _resolve(builder_name, flat, origin):
         raise SceneError(f"scene.builder = {builder_name!r}: unknown; allowed: one of "
                          + ", ".join(repr(b) for b in sorted(BUILDERS)))
     builder = BUILDERS[builder_name]
-    schema = Schema.for_builder(builder.PHASES, builder.GEOMETRY)
+    # a geometry scene's phases and keys follow from its part, probe and judge lists (geometry/parts.py)
+    phases = builder.phases_of(flat) if hasattr(builder, "phases_of") else builder.PHASES
+    listed = builder.list_params(flat) if hasattr(builder, "list_params") else []
+    schema = Schema.for_builder(phases, builder.GEOMETRY + listed)
     all_sections = ({p.section for params in SECTIONS_BY_PHASE.values() for p in params} | {"geometry"}
-                    | set(PHASE_NAMES))
+                    | set(PHASE_NAMES) | set(LISTS))
     values = {k: p.default for k, p in schema.params.items()}
     values.update(getattr(builder, "DEFAULTS", {}))
     explicit = {}
@@ -166,10 +196,13 @@ def _resolve(builder_name, flat, origin):
     values["scene.builder"] = builder_name
     if not values["scene.name"]:
         values["scene.name"] = builder_name
+    check_required(values)
+    if hasattr(builder, "resolve_files"):
+        builder.resolve_files(values, origin)
     check_combinations(values)
     builder.check(values)
     memory_guard.check(builder, values)
-    spec = SceneSpec(builder_name, schema, values, origin)
+    spec = SceneSpec(builder_name, schema, values, origin, tuple(phases))
     spec._explicit = dict(flat)
     return spec
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from .coupling import Coupling
 from .diagnostics import Diverged, Watchdog, kinetic_energy
+from .probes import ProbeSet, probe_columns
 from .fluid.stepper import FluidSolver
 from .scene import SceneError, SceneSpec
 from .state import WallState
@@ -78,6 +79,8 @@ class Simulation:
         self.walls = built.walls
         self.domain_lo, self.domain_hi = built.domain_lo, built.domain_hi
         self.probes = built.probes
+        self.probe_set = ProbeSet(built.probes)
+        self.parts = built.parts        # a geometry scene's {part: (phase, indices)}
         # a prescribed load on the solid and the damping that settles it to static (scenes/clamped_plate.py);
         # None and 0 in every other scene, which then cost nothing
         self.solid_load, self.load_ramp_time = built.solid_load, built.load_ramp_time
@@ -118,6 +121,7 @@ class Simulation:
         self._fluid_dt_clamped = False
         self.coupling = None   # only with both a solid and a fluid (coupling.py)
         self.settled = None    # what the settling phase did (fluid.settle_time > 0), for the summary
+        self._gate_in_walls = False
         if self.fluid is not None:
             settle_time = v["fluid.settle_time"]
             release = built.release_walls
@@ -131,10 +135,12 @@ class Simulation:
             self._lift = ((self.walls.count if self.walls is not None else 0, release.pos.copy(),
                            np.asarray(built.release_velocity, dtype=np.float64), built.release_travel)
                           if lifted else None)
+            self._gate_in_walls = lifted
             self.fluid_initial_positions = self.fluid.pos.copy()
             self.fluid_lost = np.zeros(self.fluid.count, dtype=np.bool_)   # left the domain: held still
             self._fluid_lost_at = np.zeros((self.fluid.count, 3))
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
+        self._probe_readings = self.probe_set.read(self)
 
     def _start_fluid(self, built, held):
         """The fluid solver and (with a solid) the coupling, against the tank's walls plus `held`: the scene's
@@ -346,6 +352,7 @@ class Simulation:
         if self.fluid is not None and self.domain_lo is not None:
             self._hold_lost_fluid()
         self.watchdog.check()
+        self._probe_readings = self.probe_set.read(self)
 
     def _hold_lost_fluid(self):
         """Water that left the domain box (a splash over a wall, falling outside the tank) is held still on the
@@ -462,6 +469,8 @@ class Simulation:
             if self.coupling is not None:
                 self._advance_coupled_solid(dt)
                 push += dt * (self.solid.mass @ self.coupling.acc)
+            if self.probe_set.averaged():
+                self.probe_set.after_fluid_step(self, dt)
             done += dt
             steps += 1
             iterations += report.iterations
@@ -508,7 +517,7 @@ class Simulation:
 
     @property
     def phases(self):
-        return self.builder.PHASES
+        return self.spec.phases
 
     @property
     def particle_count(self):
@@ -545,16 +554,33 @@ class Simulation:
             out["fluid_kinetic_energy"] = float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())
         return out
 
+    def probe_readings(self):
+        """{probe: (kind, {quantity: value})} at the end of the last outer step (probes.py), in the scene's order;
+        the pressure and force probes' values are their means over that step."""
+        return self._probe_readings
+
     def probe_displacements(self):
-        positions = {"solid": self.solid.pos if self.solid is not None else None,
-                     "fluid": self.fluid.pos if self.fluid is not None else None}
-        return {p.name: p.displacement(positions[p.phase]) for p in self.probes}
+        """{probe: (dx, dy, dz) m} of the probes that follow particles (the built-in scenes' groups, point probes)."""
+        return {name: values["displacement"] for name, (kind, values) in self._probe_readings.items()
+                if "displacement" in values}
+
+    def gate_standing(self):
+        """Whether the scene's gate (Built.release_walls) is among the fluid's wall particles after t = 0, after the
+        scene's walls: a lifted gate (one released at once is gone)."""
+        return self._gate_in_walls
+
+    def filling_particles(self):
+        """(water positions, water volumes m / rho, wall positions, wall volumes m / rho0): what fills the kernel of
+        a water-height probe (probes.py); the walls as the fluid sees them (a gate while it stands, the solid in a
+        coupled scene)."""
+        f, solver = self.fluid, self.fluid_solver
+        return f.pos, f.mass / f.rho, solver.wall_pos, solver.wall_mass / self.spec["fluid.density"]
 
     def sample(self):
-        """One time-series row: time, probe displacements, energies, step sizes, scene extras."""
+        """One time-series row: time, probes (probes.py), energies, step sizes, scene extras."""
         row = {"time": self.time}
-        for name, d in self.probe_displacements().items():
-            row[f"{name}_dx"], row[f"{name}_dy"], row[f"{name}_dz"] = (float(x) for x in d)
+        for name, (kind, values) in self._probe_readings.items():
+            row.update(probe_columns(kind, name, values))
         row.update(self.energies())
         if self.solid is not None:
             row["solid_dt"] = self.last_solid_dt

@@ -33,10 +33,12 @@ MOVING, CLAMP = 120, 24                      # the cantilever builder's counts a
 NS = "/sph_fsi"
 TOPICS = {f"{NS}/particles": "sensor_msgs/msg/PointCloud2", f"{NS}/walls": "sensor_msgs/msg/PointCloud2",
           f"{NS}/tip_displacement": "geometry_msgs/msg/Vector3Stamped", f"{NS}/strain_energy": "std_msgs/msg/Float64",
+          f"{NS}/probes/tip/displacement": "geometry_msgs/msg/Vector3Stamped",
           "/clock": "rosgraph_msgs/msg/Clock", "/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"}
 # per topic: frames, plus 1 walls message, plus the final /diagnostics (how the run ended)
 COUNTS = {f"{NS}/particles": FRAMES, f"{NS}/walls": 1, f"{NS}/tip_displacement": FRAMES,
-          f"{NS}/strain_energy": FRAMES, "/clock": FRAMES, "/diagnostics": FRAMES + 1}
+          f"{NS}/strain_energy": FRAMES, f"{NS}/probes/tip/displacement": FRAMES, "/clock": FRAMES,
+          "/diagnostics": FRAMES + 1}
 FIELDS = [("x", 0, 7), ("y", 4, 7), ("z", 8, 7), ("vx", 12, 7), ("vy", 16, 7), ("vz", 20, 7), ("pressure", 24, 7),
           ("von_mises", 28, 7), ("phase", 32, 2)]
 
@@ -85,6 +87,7 @@ def check_values(per_topic, run):
         row = series[t]
         assert vec == (row["tip_dx"], row["tip_dy"], row["tip_dz"])
     assert max(abs(v[2]) for _, _, v in tips) > 1e-5     # the beam moves: a frozen recording would fail
+    assert per_topic[f"{NS}/probes/tip/displacement"] == tips   # the probe's own topic: the same messages
     energies = per_topic[f"{NS}/strain_energy"]
     assert [t for t, _, _ in energies] == expected_times()
     for t, _, e in energies:
@@ -122,7 +125,7 @@ def _cloud(msg):
 def _neutral(topic, msg):
     if topic.endswith("particles") or topic.endswith("walls"):
         return stamp_ns(msg.header.stamp), _cloud(msg)
-    if topic.endswith("tip_displacement"):
+    if topic.endswith("displacement"):    # tip_displacement, probes/tip/displacement
         return stamp_ns(msg.header.stamp), (msg.vector.x, msg.vector.y, msg.vector.z)
     if topic.endswith("strain_energy"):
         return None, msg.data
@@ -280,7 +283,7 @@ def test_compressions_and_bad_paths(tmp_path):
         with open(path, "rb") as fh:
             summary = make_reader(fh).get_summary()
         assert {ci.compression for ci in summary.chunk_indexes} == {"" if comp == "none" else comp}
-        assert summary.statistics.message_count == 3 * 4 + 1 + 4   # 3 frames x 4 topics, walls, diagnostics
+        assert summary.statistics.message_count == 3 * 5 + 1 + 4   # 3 frames x 5 topics, walls, diagnostics
     r = run_cli(["run", "cantilever", "--mcap", str(tmp_path / "missing" / "x.mcap")], timeout=120)
     assert r.returncode == 2 and "--mcap" in r.stderr and "does not exist" in r.stderr
     r = run_cli(["run", "cantilever", "--mcap", str(tmp_path / "x.mcap"), "--mcap-compression", "gzip"],

@@ -129,7 +129,7 @@ def test_only_what_the_scene_has(phases, tmp_path):
         clouds = [msg for _s, ch, _m, msg in reader.iter_decoded_messages() if ch.topic == "/sph_fsi/particles"]
     expected = {"/sph_fsi/particles", "/clock", "/diagnostics"}
     if "solid" in phases:
-        expected |= {"/sph_fsi/tip_displacement", "/sph_fsi/strain_energy"}
+        expected |= {"/sph_fsi/tip_displacement", "/sph_fsi/probes/tip/displacement", "/sph_fsi/strain_energy"}
     if "walls" in phases or "solid" in phases:    # the clamp is a wall too
         expected.add("/sph_fsi/walls")
     assert topics == expected

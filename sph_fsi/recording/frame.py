@@ -3,13 +3,15 @@
 Capturing copies only what the simulator will overwrite (positions, velocities, pressure and, for the solid,
 the deviatoric stress), as whole arrays; selecting the moving particles, von Mises stress, colours, point
 packing, CDR encoding and compression all happen on the recorder's thread. The phases are the same as
-sph_fsi.points.moving_particles (fluid first, then solid; only those the scene has).
+sph_fsi.points.moving_particles (fluid first, then solid; only those the scene has). The probes' readings are
+copied whole (sph_fsi.points.probe_readings: a few small dicts of floats), so that every sink reports the values
+the simulator had at the frame's time.
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from sph_fsi.points import PHASE_CODES, wall_positions
+from sph_fsi.points import PHASE_CODES, probe_readings, wall_positions
 from sph_fsi_core.numerics.tensors import von_mises
 
 __all__ = ["Frame", "Static", "Final", "capture", "capture_static"]
@@ -29,7 +31,7 @@ class Static:
 class Frame:
     time: float                 # s, simulated
     raw: list                   # [(phase code, pos, vel, pressure, stress (N, 6) or None, movable mask)]: full copies
-    probes: dict                # name -> (dx, dy, dz) m
+    probes: dict                # name -> (kind, {quantity: float or (x, y, z)}): sph_fsi.points.probe_readings
     energies: dict              # sim.energies(): 'kinetic_energy', 'strain_energy', 'fluid_kinetic_energy' J
     diagnostics: dict = field(default_factory=dict)   # key -> str, for /diagnostics
     status: str = "running"
@@ -84,7 +86,7 @@ def capture(sim, row=None, diagnostics=None):
         vel = vel.copy() if vel is state.vel else vel   # solid_velocity's v + u/2 is already a new array
         raw.append((PHASE_CODES[phase], state.pos.copy(), vel, state.pressure.copy(),
                     None if stress is None else stress.copy(), None if m is None else np.array(m, dtype=bool)))
-    probes = {k: tuple(float(x) for x in v) for k, v in sim.probe_displacements().items()}
+    probes = probe_readings(sim)
     energies = {k: float(v) for k, v in row.items() if k.endswith("energy")} if row is not None else None
     if not energies:
         energies = {k: float(v) for k, v in sim.energies().items()}

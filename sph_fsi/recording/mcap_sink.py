@@ -3,7 +3,10 @@
 Written with mcap + mcap-ros2-support from plain dicts, so it needs neither rclpy nor a running ROS graph.
 Topics and types are the node's (only those the scene has): <ns>/particles and <ns>/walls
 (sensor_msgs/msg/PointCloud2), <ns>/tip_displacement (geometry_msgs/msg/Vector3Stamped), <ns>/strain_energy
-(std_msgs/msg/Float64), /clock (rosgraph_msgs/msg/Clock), /diagnostics (diagnostic_msgs/msg/DiagnosticArray).
+(std_msgs/msg/Float64), one per probe quantity, <ns>/probes/<name>/<quantity> (displacement, velocity:
+geometry_msgs/msg/Vector3Stamped; pressure: sensor_msgs/msg/FluidPressure, variance 0; surface:
+geometry_msgs/msg/PointStamped; force: geometry_msgs/msg/WrenchStamped, torque 0; sph_fsi.points), /clock
+(rosgraph_msgs/msg/Clock), /diagnostics (diagnostic_msgs/msg/DiagnosticArray).
 Every message's log and publish time is its simulated time in ns (t = 0 at the start of the run), the same
 time as its header stamp, so a player that follows log time replays at the simulator's own pace.
 Each channel carries rosbag2's `offered_qos_profiles` metadata (walls: reliable, transient-local).
@@ -12,17 +15,18 @@ import numpy as np
 from mcap.writer import CompressionType
 from mcap_ros2.writer import Writer
 
-from sph_fsi.points import WALL_DTYPE, pack_particles
+from sph_fsi.points import QUANTITY_TYPES, WALL_DTYPE, pack_particles, probe_values, topic_type
+from sph_fsi.points import TOPIC_TYPES as SCENE_TOPIC_TYPES
 
 from .frame import Frame, Static
 from .msgdefs import msgdef_text
 
-__all__ = ["McapSink", "COMPRESSIONS", "TOPIC_TYPES"]
+__all__ = ["McapSink", "COMPRESSIONS", "TOPIC_TYPES", "probe_dict", "cloud_dict"]
 
 COMPRESSIONS = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4, "none": CompressionType.NONE}
-TOPIC_TYPES = {"particles": "sensor_msgs/msg/PointCloud2", "walls": "sensor_msgs/msg/PointCloud2",
-               "tip_displacement": "geometry_msgs/msg/Vector3Stamped", "strain_energy": "std_msgs/msg/Float64",
-               "/clock": "rosgraph_msgs/msg/Clock", "/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"}
+# every topic's type but the probes' (sph_fsi.points.topic_type): the scene's, then /clock and /diagnostics (always)
+TOPIC_TYPES = {**SCENE_TOPIC_TYPES, "/clock": "rosgraph_msgs/msg/Clock",
+               "/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"}
 # PointField datatypes (sensor_msgs/msg/PointField constants)
 _POINTFIELD = {("i", 1): 1, ("u", 1): 2, ("i", 2): 3, ("u", 2): 4, ("i", 4): 5, ("u", 4): 6, ("f", 4): 7,
                ("f", 8): 8}
@@ -59,6 +63,24 @@ def cloud_dict(points, stamp, frame_id):
             "row_step": points.dtype.itemsize * len(points), "data": points.tobytes(), "is_dense": True}
 
 
+def _xyz(v):
+    return {"x": float(v[0]), "y": float(v[1]), "z": float(v[2])}
+
+
+def probe_dict(quantity, value, header):
+    """One probe topic's message (QUANTITY_TYPES[quantity]) as the dict mcap_ros2 encodes; the same fields and
+    values as sph_fsi.messages.probe_message."""
+    if quantity in ("displacement", "velocity"):
+        return {"header": header, "vector": _xyz(value)}
+    if quantity == "pressure":
+        return {"header": header, "fluid_pressure": float(value), "variance": 0.0}
+    if quantity == "surface":
+        return {"header": header, "point": _xyz(value)}
+    if quantity == "force":
+        return {"header": header, "wrench": {"force": _xyz(value), "torque": _xyz((0.0, 0.0, 0.0))}}
+    raise ValueError(f"probe quantity {quantity!r}: no message type (allowed: {', '.join(QUANTITY_TYPES)})")
+
+
 class McapSink:
     """Writes Static, Frame and Final items (sph_fsi.recording.frame) to one MCAP file."""
 
@@ -78,7 +100,8 @@ class McapSink:
         ns = namespace.rstrip("/")
         for name in sorted(topics) + ["/clock", "/diagnostics"]:
             full = name if name.startswith("/") else f"{ns}/{name}"
-            self._topics[name] = (full, self._channel(full, TOPIC_TYPES[name], latched=(name == "walls")))
+            datatype = TOPIC_TYPES.get(name) or topic_type(name)
+            self._topics[name] = (full, self._channel(full, datatype, latched=(name == "walls")))
         self.counts = {full: 0 for full, _ in self._topics.values()}
         self._seq = 0
         self._closed = False
@@ -115,9 +138,10 @@ class McapSink:
         if isinstance(item, Frame):
             self._put("particles", cloud_dict(pack_particles(item.parts), stamp, self.frame_id), ns)
             tip = item.probes.get("tip")
-            if tip is not None:
-                self._put("tip_displacement", {"header": header, "vector": {"x": tip[0], "y": tip[1],
-                                                                            "z": tip[2]}}, ns)
+            if tip is not None and "displacement" in tip[1]:
+                self._put("tip_displacement", probe_dict("displacement", tip[1]["displacement"], header), ns)
+            for topic, quantity, value in probe_values(item.probes):
+                self._put(topic, probe_dict(quantity, value, header), ns)
             if "strain_energy" in item.energies:
                 self._put("strain_energy", {"data": item.energies["strain_energy"]}, ns)
             self._put("/clock", {"clock": stamp}, ns)

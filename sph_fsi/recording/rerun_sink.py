@@ -4,7 +4,11 @@ Entities (only what the scene has):
 - `world/solid`, `world/fluid`: the moving particles, Points3D coloured by von Mises stress (solid, viridis)
   and pressure (fluid, plasma); radius half the particle spacing.
 - `world/walls`: the fixed particles (walls, the solid's clamp), grey, logged once as static.
-- `probes/<name>/{dx,dy,dz}` [m], `energy/{kinetic,strain}` (solid), `energy/fluid_kinetic` [J]: Scalars.
+- Probes (sph_fsi_core.probes), Scalars: a displacement probe (the built-in scenes' `tip`) as
+  `probes/<name>/{dx,dy,dz}` [m]; the other kinds one entity per quantity of their readings, a scalar as
+  `probes/<name>/<quantity>` (pressure [Pa], height [m]) and a vector as `probes/<name>/<quantity>/{x,y,z}`
+  (point: displacement [m] and velocity [m/s]; water_height: surface, the free surface's point [m]; force [N]).
+- `energy/{kinetic,strain}` (solid), `energy/fluid_kinetic` [J]: Scalars.
 - `legend/<phase>/{min,max}` [Pa]: the colour map's range at each frame, and a static `legend` text document
   that says which colour map and quantity each entity uses.
 - `status`: a TextLog line when the run ends (finished, diverged, interrupted, failed).
@@ -25,9 +29,24 @@ from sph_fsi.points import PHASE_FLUID, PHASE_SOLID
 
 from .frame import Final, Frame, Static
 
-__all__ = ["RerunSink", "grpc_url", "colour_lut"]
+__all__ = ["RerunSink", "grpc_url", "colour_lut", "probe_scalars"]
 
 _PHASES = {PHASE_SOLID: ("solid", "viridis", "von Mises stress"), PHASE_FLUID: ("fluid", "plasma", "pressure")}
+
+
+def probe_scalars(readings):
+    """[(entity path, value)] of the probes' readings (sph_fsi.points.probe_readings; module docstring)."""
+    out = []
+    for name, (kind, values) in readings.items():
+        if kind == "displacement":
+            out += [(f"probes/{name}/{axis}", v) for axis, v in zip(("dx", "dy", "dz"), values["displacement"])]
+            continue
+        for quantity, value in values.items():
+            if isinstance(value, tuple):
+                out += [(f"probes/{name}/{quantity}/{axis}", v) for axis, v in zip("xyz", value)]
+            else:
+                out.append((f"probes/{name}/{quantity}", value))
+    return out
 
 
 def grpc_url(addr):
@@ -112,9 +131,8 @@ class RerunSink:
                                                  radii=self._radius or None))
             rec.log(f"legend/{name}/min", rr.Scalars(low))
             rec.log(f"legend/{name}/max", rr.Scalars(high))
-        for probe, d in item.probes.items():
-            for axis, v in zip(("dx", "dy", "dz"), d):
-                rec.log(f"probes/{probe}/{axis}", rr.Scalars(v))
+        for path, value in probe_scalars(item.probes):
+            rec.log(path, rr.Scalars(value))
         for key, value in item.energies.items():   # kinetic_energy -> energy/kinetic, fluid_kinetic_energy -> ...
             rec.log(f"energy/{key.removesuffix('_energy')}", rr.Scalars(value))
         self.frames += 1

@@ -37,6 +37,7 @@ from .neighbours import FluidNeighbourList, inside_box, named_in
 from .okaji import (FLUID_BLOCK_COLUMNS, apply_displacement, compression_error, gravity_and_predictor,
                           pressure_displacement, summation_density, velocity_from_displacement, viscous_velocity,
                           wall_pressure, wrap_periodic)
+from .wall_forces import wall_group_forces
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
 from ..numerics.neighbours import INDEX_DTYPE, position_bounds
 from ..numerics.pair_blocks import block_scratch
@@ -313,6 +314,19 @@ class FluidSolver:
         if vmax > 0.0:
             limits.append(cfl * self.h / vmax)
         return min(limits)
+
+    def wall_forces(self, group, count):
+        """(count, 3) N: the water's push on groups of wall particles (group: (walls,) int64, each wall particle's
+        group, -1 for none) from the last step's pressures at the current positions (fluid/wall_forces.py)."""
+        fl = self.fluid
+        wall_q = np.zeros(len(self.wall_mass))
+        wstart, windex, wfstart, wfindex = self._wall_rows()
+        if len(self.active_walls):
+            wall_pressure(self.wall_pos, self.active_walls, fl.pos, fl.pressure, wfstart, wfindex, self.period,
+                          self.xz_periodic, self.wall_crossing, self.h, self.rho0, wall_q)
+        return wall_group_forces(fl.pos, fl.mass, fl.rho, fl.pressure, self.wall_pos, self.wall_mass, wall_q,
+                                 np.ascontiguousarray(group, dtype=np.int64), wstart, windex, self.period, self.h,
+                                 int(count), np.zeros((self.buf.shape[0], int(count), 3)))
 
     def correction_c(self, dt):
         """c of eq. (7): fluid.correction_coefficient, or kappa h / dt when that is 0 (module docstring)."""

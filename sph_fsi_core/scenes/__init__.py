@@ -11,13 +11,17 @@ Builder module interface:
     build(values) -> Built      particles, probes, domain
     evaluate(series, values)    {measured quantities, reference, error} from the run's time series
     sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure
+A scene whose phases and keys follow from its file (the geometry builder) also has:
+    phases_of(flat)             its phases, from the scene's keys
+    list_params(flat)           the Params of its part, probe and judge lists (geometry/parts.py)
+    resolve_files(values, path) its files' paths made absolute, relative to the scene file
 """
 from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
-               dam_break, elastic_gate, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
+               dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
 
 BUILDERS = {"cantilever": cantilever, "clamped_plate": clamped_plate, "hydrostatic": hydrostatic,
             "dam_break": dam_break, "elastic_gate": elastic_gate, "antoci_gate": antoci_gate,
             "hydrostatic_plate": hydrostatic_plate, "antoci_gate_static": antoci_gate_static,
             "antoci_gate_loaded": antoci_gate_loaded, "cantilever_loaded": cantilever_loaded,
-            "lobovsky_dam_break": lobovsky_dam_break}
+            "lobovsky_dam_break": lobovsky_dam_break, "geometry": geometry}
 DEFAULT_SCENE = "cantilever"

@@ -31,6 +31,9 @@ class Built:
     # or, with a velocity (m/s), a gate lifted from t = 0 at that velocity until it has moved release_travel (m)
     release_velocity: np.ndarray | None = None
     release_travel: float = 0.0
+    # a geometry scene's parts (scenes/geometry.py): {name: (phase, indices into that phase's particles)}, phase
+    # 'fluid', 'walls', 'gate' (release_walls) or 'solid'; empty for the built-in scenes
+    parts: dict = field(default_factory=dict)
 
 
 def clamp_mirror_across(pos, movable, axis, face, spacing):

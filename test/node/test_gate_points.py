@@ -1,6 +1,6 @@
 """What the node shows of a coupled scene (ROS-free: sph_fsi.points): water (phase 1) and the gate's moving particles
 (phase 2) in ~/particles, the tank's walls and the gate's clamp in ~/walls, the gate's free end on
-~/tip_displacement and its strain energy on ~/strain_energy."""
+~/tip_displacement (and, as every probe, on ~/probes/tip/displacement) and its strain energy on ~/strain_energy."""
 import numpy as np
 
 from sph_fsi.points import PHASE_FLUID, PHASE_SOLID, particle_points, topic_plan, wall_positions
@@ -13,7 +13,7 @@ def test_gate_scene_topics_and_points():
                                                  "geometry.gate_clamp_height=0.004",
                                                  "geometry.span=0", "output.timeseries_interval=0.002"]))
     sim.step()
-    assert topic_plan(sim) == {"particles", "walls", "tip_displacement", "strain_energy"}
+    assert topic_plan(sim) == {"particles", "walls", "tip_displacement", "strain_energy", "probes/tip/displacement"}
     points = particle_points(sim)
     assert len(points) == sim.fluid.count + sim.solid.moving_count
     assert np.count_nonzero(points["phase"] == PHASE_FLUID) == sim.fluid.count

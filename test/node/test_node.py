@@ -96,7 +96,8 @@ class Peer:
     """rclpy in this process: records every message with its arrival time and calls the node's services."""
 
     TOPICS = {"/clock": Clock, "/diagnostics": DiagnosticArray, "/sph_fsi/particles": PointCloud2,
-              "/sph_fsi/tip_displacement": Vector3Stamped, "/sph_fsi/strain_energy": Float64}
+              "/sph_fsi/tip_displacement": Vector3Stamped, "/sph_fsi/strain_energy": Float64,
+              "/sph_fsi/probes/tip/displacement": Vector3Stamped}
 
     def __init__(self, domain, name="sph_fsi_test_peer"):
         self.ctx = rclpy.Context()
@@ -270,6 +271,7 @@ def _reset_and_wait(peer):
 def test_topics_and_services_exist_only_for_what_the_scene_has(node, peer):
     expected = {"/sph_fsi/particles": "sensor_msgs/msg/PointCloud2", "/sph_fsi/walls": "sensor_msgs/msg/PointCloud2",
                 "/sph_fsi/tip_displacement": "geometry_msgs/msg/Vector3Stamped",
+                "/sph_fsi/probes/tip/displacement": "geometry_msgs/msg/Vector3Stamped",
                 "/sph_fsi/strain_energy": "std_msgs/msg/Float64", "/clock": "rosgraph_msgs/msg/Clock",
                 "/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"}
     deadline = time.monotonic() + 15.0
@@ -334,6 +336,9 @@ def test_tip_displacement_equals_the_simulators_own(node, peer):
     got = np.array([msg.vector.x, msg.vector.y, msg.vector.z])
     np.testing.assert_allclose(got, d, rtol=0, atol=1e-9)
     assert abs(got[2]) > 1e-7   # the tip has moved (Vf = 10 mm/s along z): not a trivial comparison
+    # the probe's own topic carries the same vector with the same stamp
+    same = peer.wait_for("/sph_fsi/probes/tip/displacement", lambda m: m.header.stamp == msg.header.stamp)
+    assert (same.vector.x, same.vector.y, same.vector.z) == tuple(got) and same.header.frame_id == "map"
 
 
 def test_clock_increases(node, peer):

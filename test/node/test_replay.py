@@ -36,6 +36,7 @@ NODE_DOMAIN = 1 + (_BASE + 2) % 100
 SMALL = ["--set", "numerics.spacing=0.002"]
 TOPICS = {"/sph_fsi/particles": "sensor_msgs/msg/PointCloud2", "/sph_fsi/walls": "sensor_msgs/msg/PointCloud2",
           "/sph_fsi/tip_displacement": "geometry_msgs/msg/Vector3Stamped",
+          "/sph_fsi/probes/tip/displacement": "geometry_msgs/msg/Vector3Stamped",
           "/sph_fsi/strain_energy": "std_msgs/msg/Float64", "/clock": "rosgraph_msgs/msg/Clock",
           "/diagnostics": "diagnostic_msgs/msg/DiagnosticArray"}
 
@@ -54,7 +55,7 @@ def _key(topic, msg):
     if topic.endswith("strain_energy"):
         return None, msg.data
     stamp = msg.header.stamp.sec * 10**9 + msg.header.stamp.nanosec
-    if topic.endswith("tip_displacement"):
+    if topic.endswith("displacement"):    # tip_displacement, probes/tip/displacement
         return stamp, (msg.vector.x, msg.vector.y, msg.vector.z)
     if topic == "/diagnostics":
         return stamp, msg.status[0].message
@@ -124,7 +125,7 @@ def test_replay_delivers_recorded_messages_in_order_with_recorded_stamps(recordi
     expected = recorded(recording)
     assert {t: len(v) for t, v in expected.items()} == {
         "/sph_fsi/particles": 21, "/sph_fsi/walls": 1, "/sph_fsi/tip_displacement": 21,
-        "/sph_fsi/strain_energy": 21, "/clock": 21, "/diagnostics": 22}
+        "/sph_fsi/probes/tip/displacement": 21, "/sph_fsi/strain_energy": 21, "/clock": 21, "/diagnostics": 22}
     sub = Subscriber(DOMAIN)
     try:
         rate = 0.04      # 0.02 s of simulated time over 0.5 s
@@ -195,6 +196,7 @@ def test_node_records_mcap_and_rrd(ending, tmp_path):
     else:
         assert frames >= 3
     assert counts["/sph_fsi/particles"] == counts["/sph_fsi/tip_displacement"] == frames
+    assert counts["/sph_fsi/probes/tip/displacement"] == frames
     assert counts["/diagnostics"] == frames + 1
     r = subprocess.run([RERUN, "rrd", "verify", str(rrd)], env=env(), capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr

@@ -1,0 +1,62 @@
+"""The water's force on groups of wall particles, from a fluid step's pressures (the `force` probes, probes.py).
+
+The correction moves a fluid particle a by dt^2 dv_a/dt of eq. (2) each iteration; its wall terms are the walls'
+push, -m_a sum_w m_w (p_a / rho_a^2 + p_w / rho0^2) grad_a W_aw, and their reaction the water's push on the wall.
+Summed over a step's iterations that is the same sum with the step's accumulated pressures P (state.FluidState's
+`pressure`, the sum of its iteration pressures) in place of p, up to how far the particles moved within the step's
+iterations: the force here, evaluated at the step's end positions, with each wall particle's P_w the Shepard average
+of its fluid neighbours' P (fluid.okaji.wall_pressure's rule).
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_f
+from ..numerics.neighbours import chunk_first_target, unsigned
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _image(d, period):
+    if period > 0.0:
+        if d > 0.5 * period:
+            return d - period
+        if d < -0.5 * period:
+            return d + period
+    return d
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def wall_group_forces(pos, mass, rho, pressure, wall_pos, wall_mass, wall_q, group, wstart, windex, period, h, groups,
+                      buf):
+    """(groups, 3) N: sum over fluid particles a and their wall neighbours w with group[w] = g >= 0 of
+    m_a m_w (P_a / rho_a^2 + wall_q[w]) F_aw (r_a - r_w), F = (dW/dr) / r, into row g (the water's push on group g;
+    wall_q = P_w / rho0^2). `buf`: (chunks, groups, 3) scratch."""
+    chunks = buf.shape[0]
+    reach = SUPPORT_RADIUS_IN_H * h
+    for c in prange(chunks):
+        out = buf[c]
+        out[:] = 0.0
+        for a in range(chunk_first_target(wstart, c, chunks), chunk_first_target(wstart, c + 1, chunks)):
+            qa = pressure[a] / (rho[a] * rho[a])
+            for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
+                w = windex[k]
+                g = group[w]
+                if g < 0:
+                    continue
+                dx = _image(pos[a, 0] - wall_pos[w, 0], period[0])
+                dy = _image(pos[a, 1] - wall_pos[w, 1], period[1])
+                dz = _image(pos[a, 2] - wall_pos[w, 2], period[2])
+                r = math.sqrt(dx * dx + dy * dy + dz * dz)
+                if r >= reach:
+                    continue
+                coef = mass[a] * wall_mass[w] * (qa + wall_q[w]) * cubic_spline_f(r, h)
+                out[g, 0] += coef * dx
+                out[g, 1] += coef * dy
+                out[g, 2] += coef * dz
+    total = np.zeros((groups, 3))
+    for c in range(chunks):
+        total += buf[c]
+    return total
+
+

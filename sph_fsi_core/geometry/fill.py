@@ -1,0 +1,133 @@
+"""A geometry scene's parts: their shapes from the scene's keys, and the lattice sites each holds by its role.
+
+    water         every site inside the shape
+    solid         every site inside the shape (its clamp: those inside the part's clamp box)
+    wall, gate    `layers` of sites inside the shape's surface (side: inside, an obstacle; hollow beyond the
+                  kernel's reach) or outside it (side: outside, a tank whose inside is the shape; open faces left
+                  open)
+
+`layers` 0 takes the fewest that reach the kernel's support, ceil(2h / dp), as every built-in scene's walls do.
+"""
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..schema import SceneError
+from .lattice import estimated_shell_sites, filled, inner_shell, outer_shell
+from .meshes import load_mesh
+from .parts import list_entries, parse_faces
+from .shapes import Shape, rotation_matrix
+
+
+@dataclass
+class Part:
+    name: str
+    role: str
+    shape: Shape
+    keys: dict            # the part's keys without the 'parts.<name>.' prefix
+
+    def key(self, sub):
+        return f"parts.{self.name}.{sub}"
+
+
+def shape_of(name, keys):
+    """The placed Shape of a part's keys (SceneError naming a bad size or mesh)."""
+    k = f"parts.{name}."
+    kind = keys["shape"]
+    if kind == "box":
+        size = np.asarray(keys["size"], dtype=np.float64)
+        if not (size > 0.0).all():
+            raise SceneError(f"{k}size = {list(keys['size'])}: an edge not positive; allowed: three lengths > 0 m")
+        dims = size
+    elif kind == "cylinder":
+        dims = np.array([keys["radius"], keys["length"]], dtype=np.float64)
+    elif kind == "sphere":
+        dims = np.array([keys["radius"]], dtype=np.float64)
+    else:
+        dims = load_mesh(keys["file"], k + "file").triangles * keys["scale"]
+    return Shape(kind, dims, rotation_matrix(keys["rotation"]), np.asarray(keys["position"], dtype=np.float64))
+
+
+def parts_of(values):
+    """The scene's parts in file order."""
+    out = []
+    for name, keys in list_entries(values, "parts").items():
+        out.append(Part(name, keys["role"], shape_of(name, keys), keys))
+    return out
+
+
+def minimum_wall_layers(values):
+    """ceil(2h / dp): the fewest layers a wall needs so that no water particle's kernel reaches past it."""
+    return math.ceil(SUPPORT_RADIUS_IN_H * values["numerics.smoothing_ratio"] - 1e-9)
+
+
+def wall_layers(part, values):
+    """The part's wall layers (its `layers`, or the fewest that reach 2h); SceneError if set below that."""
+    need = minimum_wall_layers(values)
+    layers = part.keys["layers"]
+    if layers == 0:
+        return need
+    if layers < need:
+        raise SceneError(f"{part.key('layers')} = {layers}: thinner than the kernel's reach 2h = "
+                         f"{SUPPORT_RADIUS_IN_H * values['numerics.smoothing_ratio']:.3g} spacings; allowed: at least "
+                         f"{need} (or 0: that many)")
+    return layers
+
+
+def open_faces(part):
+    return parse_faces(part.key("open"), part.keys["open"], part.keys["shape"], part.keys["side"])
+
+
+def part_sites(part, lattice, values):
+    """The integer lattice sites the part holds (N, 3) (SceneError if it holds none)."""
+    if part.role in ("water", "solid"):
+        sites = filled(lattice, part.shape)
+    elif part.keys["side"] == "outside":
+        sites = outer_shell(lattice, part.shape, wall_layers(part, values), open_faces(part))
+    else:
+        sites = inner_shell(lattice, part.shape, wall_layers(part, values))
+    if len(sites) == 0:
+        raise SceneError(f"parts.{part.name}: holds no lattice site at numerics.spacing = "
+                         f"{values['numerics.spacing']:g} m (a {part.keys['shape']} of "
+                         f"{part.shape.volume():.3g} m^3); allowed: a part larger than the spacing")
+    return sites
+
+
+def _area(part):
+    s = part.shape
+    if s.kind == "box":
+        a, b, c = s.dims
+        return 2.0 * (a * b + b * c + a * c)
+    if s.kind == "cylinder":
+        r, length = s.dims
+        return 2.0 * math.pi * r * (r + length)
+    if s.kind == "sphere":
+        return 4.0 * math.pi * s.dims[0] ** 2
+    t = s.dims
+    return float(0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum())
+
+
+def estimated_sites(part, values):
+    """About how many sites the part holds, from its volume or its surface (the memory guard's count, made before
+    anything is built)."""
+    dp = values["numerics.spacing"]
+    if part.role in ("water", "solid"):
+        return int(math.ceil(part.shape.volume() / dp ** 3))
+    layers = wall_layers(part, values)
+    area = _area(part)
+    if part.keys["side"] == "outside":     # the shell's outer surface is larger than the shape's
+        grow = layers * dp
+        area = area + grow * math.sqrt(area) * 8.0 + 24.0 * grow * grow
+    return min(estimated_shell_sites(area, layers, dp), 10 ** 12)
+
+
+def resolve_files(values, scene_file):
+    """Mesh and measurement file paths relative to the scene file made absolute (in place)."""
+    base = Path(scene_file).resolve().parent if scene_file and Path(scene_file).is_file() else Path.cwd()
+    for key, value in values.items():
+        if key.split(".", 1)[0] in ("parts", "judge") and key.endswith(".file") and isinstance(value, str) \
+                and value and not value.startswith("reference_data:") and not Path(value).is_absolute():
+            values[key] = str(base / value)

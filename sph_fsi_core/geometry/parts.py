@@ -1,0 +1,216 @@
+"""The part, probe and judge lists of a geometry scene (scenes/geometry.py), declared as schema keys.
+
+A scene file lists them as YAML sequences of mappings, each with a unique `name`:
+
+    parts:
+      - {name: tank, role: wall, shape: box, size: [3.22, 1.0, 1.0], position: [1.61, 0, 0.5], side: outside,
+         open: "+z"}
+    probes:
+      - {name: H2, kind: water_height, position: [0.992, 0.0, 0.0]}
+
+scene.py flattens each entry into keys `parts.<name>.<key>` (`probes.<name>.<key>`, `judge.<name>.<key>`), and
+`list_params` declares them as schema.Params, chosen by the entry's role and shape (or kind). So every key of every
+part is checked as a section key is (type, range, unknown keys with a near match, one line naming the key), can be
+overridden (`--set parts.box.position=[0.7, 0, 0.08]`) and is a ROS parameter of the node. Required keys have no
+default: a part without one is refused by name.
+"""
+import re
+
+from ..schema import Param, SceneError
+
+LISTS = ("parts", "probes", "judge")
+NAME_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+ROLES = ("water", "wall", "solid", "gate")
+SHAPES = ("box", "cylinder", "sphere", "mesh")
+FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
+PROBE_KINDS = ("point", "pressure", "water_height", "force")
+JUDGE_KINDS = ("frequency", "mean", "series")
+REQUIRED = None    # a Param default meaning "must be given"
+
+
+def _p(key, default, unit, description, **kw):
+    return Param(key, default, unit, description, **kw)
+
+
+def _shape_params(k, shape):
+    if shape == "box":
+        return [_p(k + "size", REQUIRED, "m", "Edge lengths along the part's own x, y, z axes", kind="vec3")]
+    if shape == "cylinder":
+        return [_p(k + "radius", REQUIRED, "m", "Radius", low=0.0, low_inclusive=False, high=1.0e3),
+                _p(k + "length", REQUIRED, "m", "Length along the part's own z axis", low=0.0, low_inclusive=False,
+                   high=1.0e3)]
+    if shape == "sphere":
+        return [_p(k + "radius", REQUIRED, "m", "Radius", low=0.0, low_inclusive=False, high=1.0e3)]
+    return [_p(k + "file", REQUIRED, "", "Mesh file (STL, OBJ or PLY; a closed surface), relative to the scene "
+               "file", kind="str"),
+            _p(k + "scale", 1.0, "1", "Factor from the file's units to metres (0.001 for millimetres)", low=0.0,
+               low_inclusive=False, high=1.0e6)]
+
+
+def _wall_params(k):
+    return [_p(k + "side", "inside", "", "Where its particle layers go: 'inside' the shape's surface (an obstacle) "
+               "or 'outside' it (a tank whose inside is the shape)", kind="str", choices=("inside", "outside")),
+            _p(k + "layers", 0, "1", "Particle layers of the wall (0: the fewest that reach 2h)", kind="int", low=0,
+               high=20),
+            _p(k + "open", "", "", "Faces left open with side = outside, e.g. '+z' for a tank's top (a box: -x, +x, "
+               "-y, +y, -z, +z of its own axes; a cylinder: -z, +z), space-separated", kind="str")]
+
+
+def part_params(name, role, shape):
+    """The Params of part `name` with this role and shape."""
+    k = f"parts.{name}."
+    out = [_p(k + "role", REQUIRED, "", "What the part is: 'water' (filled with water), 'wall' (fixed particles), "
+              "'solid' (an elastic body of the solid section's material), 'gate' (a wall gone or lifted at t = 0)",
+              kind="str", choices=ROLES),
+           _p(k + "shape", REQUIRED, "", "Its shape", kind="str", choices=SHAPES),
+           _p(k + "position", (0.0, 0.0, 0.0), "m", "Where the shape's own origin goes (a box's, cylinder's or "
+              "sphere's centre; a mesh's file origin)", kind="vec3"),
+           _p(k + "rotation", (0.0, 0.0, 0.0), "deg", "Rotation about the world's x, then y, then z axis",
+              kind="vec3")]
+    out += _shape_params(k, shape)
+    if role == "water":
+        out += [_p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the water", kind="vec3")]
+    elif role in ("wall", "gate"):
+        out += _wall_params(k)
+    if role == "gate":
+        out += [_p(k + "release", "instant", "", "At t = 0 the gate is gone ('instant') or starts moving at "
+                   "lift_velocity ('lifted'); with fluid.settle_time it holds the water while it settles", kind="str",
+                   choices=("instant", "lifted")),
+                _p(k + "lift_velocity", (0.0, 0.0, 1.0), "m/s", "The lifted gate's velocity", kind="vec3"),
+                _p(k + "lift_travel", 0.0, "m", "How far the lifted gate moves (0: until its lowest particle is 2h "
+                   "above the water's top)", low=0.0, high=1.0e3)]
+    if role == "solid":
+        out += [_p(k + "clamp_lo", (0.0, 0.0, 0.0), "m", "Low corner of the clamp box: the body's particles inside it "
+                   "are its clamp (clamp_lo = clamp_hi: none)", kind="vec3"),
+                _p(k + "clamp_hi", (0.0, 0.0, 0.0), "m", "High corner of the clamp box", kind="vec3"),
+                _p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the body", kind="vec3"),
+                _p(k + "mode_tip_velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity in the first bending mode of a "
+                   "cantilever (Satake et al. eqs. (12)-(14)) from the clamp face along its normal, the free end moving "
+                   "at this velocity (0: none)", kind="vec3")]
+    return out
+
+
+def probe_params(name, kind):
+    k = f"probes.{name}."
+    out = [_p(k + "kind", REQUIRED, "", "What it measures: 'point' (displacement and velocity of the solid's material "
+              "point nearest to position), 'pressure' (the water's pressure at a point on a wall), 'water_height' "
+              "(the free surface above position's (x, y), over its z), 'force' (the water's force on a part)",
+              kind="str", choices=PROBE_KINDS)]
+    if kind == "force":
+        out += [_p(k + "part", REQUIRED, "", "The wall, gate or solid part the water pushes", kind="str")]
+    else:
+        out += [_p(k + "position", REQUIRED, "m", "Where it measures", kind="vec3")]
+    return out
+
+
+def judge_params(name, kind):
+    k = f"judge.{name}."
+    out = [_p(k + "kind", REQUIRED, "", "How a time-series column is judged: 'frequency' (its dominant frequency "
+              "against reference), 'mean' (its mean over [from, to] against reference), 'series' (against a measured "
+              "series in a CSV file)", kind="str", choices=JUDGE_KINDS),
+           _p(k + "column", REQUIRED, "", "The timeseries.csv column judged (a probe's, e.g. 'tip_dz', 'P1', 'H2')",
+              kind="str"),
+           _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
+           _p(k + "from", 0.0, "s", "Judged from this simulated time", low=0.0, high=1.0e3),
+           _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3)]
+    if kind in ("frequency", "mean"):
+        out += [_p(k + "reference", REQUIRED, "", "The reference value (Hz for a frequency; the column's unit for a "
+                   "mean)"),
+                _p(k + "tolerance", 0.0, "1", "Relative error allowed (0: reported, not checked)", low=0.0,
+                   high=10.0)]
+    else:
+        out += [_p(k + "file", REQUIRED, "", "CSV of the measurement ('#' comment lines, a header row, time in its "
+                   "first column), relative to the scene file, or 'reference_data:<name>' for the package's",
+                   kind="str"),
+                _p(k + "file_column", REQUIRED, "", "The file's column judged against", kind="str"),
+                _p(k + "scale", 1.0, "1", "Factor on the simulated column before the comparison", low=-1.0e6,
+                   high=1.0e6),
+                _p(k + "average", 0.0, "s", "Both series averaged over this centred window first (0: as sampled)",
+                   low=0.0, high=10.0),
+                _p(k + "rms_tolerance", 0.0, "", "RMS difference allowed, in the column's unit (0: reported, not "
+                   "checked)", low=0.0),
+                _p(k + "threshold", 0.0, "", "With a value: the first time each series reaches it (an impact), and "
+                   "each series' peak from then to `to`", ),
+                _p(k + "onset_tolerance", 0.0, "s", "Allowed difference of those first times (0: not checked)",
+                   low=0.0, high=10.0),
+                _p(k + "peak_tolerance", 0.0, "1", "Allowed relative difference of the peaks (0: not checked)",
+                   low=0.0, high=10.0)]
+    return out
+
+
+def list_entries(flat, which):
+    """{name: {key: value}} of list `which` in the flat keys, in file order."""
+    out = {}
+    prefix = which + "."
+    for key, value in flat.items():
+        if key.startswith(prefix) and key.count(".") == 2:
+            _, name, sub = key.split(".")
+            out.setdefault(name, {})[sub] = value
+    return out
+
+
+def _choice(flat, key, choices):
+    value = flat.get(key)
+    if value is None:
+        raise SceneError(f"{key}: missing; allowed: one of " + ", ".join(repr(c) for c in choices))
+    if not isinstance(value, str) or value not in choices:
+        raise SceneError(f"{key} = {value!r}: not a known choice; allowed: one of "
+                         + ", ".join(repr(c) for c in choices))
+    return value
+
+
+def list_params(flat):
+    """The Params of every part, probe and judge the flat keys name (SceneError naming a missing or unknown role,
+    shape or kind)."""
+    out = []
+    for name in list_entries(flat, "parts"):
+        role = _choice(flat, f"parts.{name}.role", ROLES)
+        shape = _choice(flat, f"parts.{name}.shape", SHAPES)
+        out += part_params(name, role, shape)
+    for name in list_entries(flat, "probes"):
+        out += probe_params(name, _choice(flat, f"probes.{name}.kind", PROBE_KINDS))
+    for name in list_entries(flat, "judge"):
+        out += judge_params(name, _choice(flat, f"judge.{name}.kind", JUDGE_KINDS))
+    return out
+
+
+def phases_of(flat):
+    """The phases a scene of these parts has: water -> fluid, wall and gate -> walls, solid -> solid; coupling where
+    there are both a solid and water."""
+    roles = {flat.get(f"parts.{name}.role") for name in list_entries(flat, "parts")}
+    phases = []
+    if "solid" in roles:
+        phases.append("solid")
+    if "water" in roles:
+        phases.append("fluid")
+    if roles & {"wall", "gate"}:
+        phases.append("walls")
+    if "solid" in roles and "water" in roles:
+        phases.append("coupling")
+    return tuple(phases)
+
+
+def check_required(values):
+    """SceneError naming the first list key that has no value (a required key the file did not give)."""
+    for key, value in values.items():
+        if value is REQUIRED and key.split(".", 1)[0] in LISTS:
+            raise SceneError(f"{key}: missing; allowed: " + {"parts": "every part needs it",
+                                                             "probes": "every probe of its kind needs it",
+                                                             "judge": "every judge of its kind needs it"}[
+                                                                 key.split(".", 1)[0]])
+
+
+def parse_faces(key, text, shape, side):
+    """The open faces of a wall part ('+z -x' -> ('+z', '-x')), SceneError naming the key if not allowed."""
+    faces = tuple(f for f in re.split(r"[\s,]+", text.strip()) if f)
+    allowed = {"box": FACES, "cylinder": ("-z", "+z")}.get(shape, ())
+    for f in faces:
+        if f not in allowed:
+            raise SceneError(f"{key} = {text!r}: {f!r} is not a face of a {shape}; allowed: "
+                             + (", ".join(allowed) if allowed else "none (only a box's or a cylinder's faces open)"))
+    if faces and side != "outside":
+        raise SceneError(f"{key} = {text!r}: open faces belong to a wall built outside its shape (a tank); allowed: "
+                         f"'' with side = {side}")
+    if len(set(faces)) != len(faces):
+        raise SceneError(f"{key} = {text!r}: a face named twice; allowed: each face once")
+    return faces

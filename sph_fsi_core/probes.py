@@ -1,0 +1,251 @@
+"""Probes: what a scene measures at named places, read from the state after each step (docs/method.md, "Probes").
+
+A probe has a name, a kind and its time-series columns:
+
+    displacement  `<name>_dx, _dy, _dz` m: the mean displacement of a group of particles (the built-in scenes' 'tip')
+    point         `<name>_dx, _dy, _dz` m and `<name>_vx, _vy, _vz` m/s: the solid's material point nearest to the
+                  probe's position when built (its particle's displacement and velocity)
+    pressure      `<name>` Pa: the water's pressure at a point on a wall, p = sum_b V_b p_b W(x - x_b) / sum_b V_b W
+                  over the water within reach (2h) of the point (Shepard's average; 0 when no water is within
+                  reach), each fluid step's averaged over the outer step, weighted by the steps' lengths
+    water_height  `<name>` m: the free surface's height above the probe's position along z: the highest point of
+                  the vertical line through (x, y) where the water and the walls fill at least half the kernel,
+                  sum_b V_b W(x - x_b) >= 1/2 over water and wall particles (the walls count as filled, so the
+                  line starts full at a floor), less the position's z; 0 when the line is dry above it
+    force         `<name>_fx, _fy, _fz` N: the water's force on a part: on a wall, the pressure pair forces of the
+                  fluid step's correction (its accumulated pressures at its end positions, fluid.stepper
+                  FluidSolver.wall_forces); on a solid, the coupling's push on the part's particles; each fluid
+                  step's averaged over the outer step
+
+Probes only read the state; Simulation calls `after_fluid_step` after each fluid step (the interval averages) and
+`read` once per outer step, and every output (timeseries.csv, the node's topics, MCAP, Rerun) reports `read`'s
+values.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from .numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
+
+KINDS = ("displacement", "point", "pressure", "water_height", "force")
+# water_height: the line is sampled at this fraction of a spacing
+HEIGHT_SAMPLES_PER_SPACING = 4
+# a line is filled where the kernel sum of the particles' volumes reaches this (a flat free surface: 1/2)
+FILLED = 0.5
+
+
+@dataclass
+class ProbeSpec:
+    """A probe as a scene builds it (scenes/geometry.py): `point` has its solid particle `index` and that particle's
+    `reference_position`; `pressure` and `water_height` their `position`; `force` the `phase` ('walls', 'gate' or
+    'solid') and `indices` of the part it measures."""
+    name: str
+    kind: str
+    position: np.ndarray = None
+    index: int = -1
+    reference_position: np.ndarray = None
+    phase: str = ""
+    indices: np.ndarray = None
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def shepard_pressure(points, pos, mass, rho, pressure, h):
+    """Shepard's average of the particles' pressure at each point (P, 3): sum_b V_b p_b W_b / sum_b V_b W_b over the
+    particles within 2h, V_b = m_b / rho_b; 0 where none is (docs/method.md, "Probes")."""
+    out = np.zeros(points.shape[0])
+    reach2 = (SUPPORT_RADIUS_IN_H * h) ** 2
+    for i in prange(points.shape[0]):
+        num, den = 0.0, 0.0
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        for b in range(pos.shape[0]):
+            dx, dy, dz = pos[b, 0] - px, pos[b, 1] - py, pos[b, 2] - pz
+            r2 = dx * dx + dy * dy + dz * dz
+            if r2 < reach2:
+                w = mass[b] / rho[b] * cubic_spline_w(math.sqrt(r2), h)
+                num += w * pressure[b]
+                den += w
+        out[i] = num / den if den > 0.0 else 0.0
+    return out
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _line_fill(z, x, y, pos, volume, near, h):
+    """sum_b V_b W(|(x, y, z) - x_b|) over the particles `near`."""
+    fill = 0.0
+    for b in near:
+        dx, dy, dz = pos[b, 0] - x, pos[b, 1] - y, pos[b, 2] - z
+        fill += volume[b] * cubic_spline_w(math.sqrt(dx * dx + dy * dy + dz * dz), h)
+    return fill
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def _near_line(x, y, pos, reach):
+    """Indices of the particles within `reach` of the vertical line through (x, y)."""
+    keep = np.zeros(pos.shape[0], dtype=np.bool_)
+    reach2 = reach * reach
+    for b in range(pos.shape[0]):
+        dx, dy = pos[b, 0] - x, pos[b, 1] - y
+        keep[b] = dx * dx + dy * dy < reach2
+    return np.flatnonzero(keep)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, h, step):
+    """Above z0 on the vertical line through (x, y): the highest z where the water and the walls fill the kernel,
+    sum_b V_b W(x - x_b) >= FILLED (linear between samples `step` apart), less z0; 0 where the line is not filled
+    above z0 (module docstring)."""
+    reach = SUPPORT_RADIUS_IN_H * h
+    water = _near_line(x, y, water_pos, reach)
+    walls = _near_line(x, y, wall_pos, reach)
+    top = z0
+    for b in water:
+        top = max(top, water_pos[b, 2] + reach)
+    found = 0.0
+    previous = 0.0
+    n = int(math.ceil((top - z0) / step)) + 1
+    for k in range(n):
+        z = z0 + k * step
+        fill = _line_fill(z, x, y, water_pos, water_volume, water, h) + _line_fill(z, x, y, wall_pos, wall_volume,
+                                                                                    walls, h)
+        if k > 0 and previous >= FILLED and fill < FILLED:
+            found = (k - 1) * step + step * (previous - FILLED) / (previous - fill)
+        previous = fill
+    return found
+
+
+class ProbeSet:
+    """A scene's probes (Built.probes: state.Probe groups and geometry probe specs), read together."""
+
+    def __init__(self, probes):
+        self.order = []             # (name, kind) in the scene's order
+        self.groups = []            # state.Probe of the 'displacement' kind
+        self.points = []            # (name, solid index, reference position)
+        self.pressure = []          # (name, position)
+        self.heights = []           # (name, position)
+        self.forces = []            # (name, phase, indices into that phase's particles)
+        for probe in probes:
+            kind = getattr(probe, "kind", "displacement")
+            self.order.append((probe.name, kind))
+            {"displacement": self.groups, "point": self.points, "pressure": self.pressure,
+             "water_height": self.heights, "force": self.forces}[kind].append(probe)
+        self._pressure_points = np.array([p.position for p in self.pressure], dtype=np.float64).reshape(-1, 3)
+        self._pressure_mean = IntervalMean(len(self.pressure))
+        self._force_mean = IntervalMean((len(self.forces), 3))
+        self._wall_groups = None
+
+    def __len__(self):
+        return len(self.order)
+
+    def kinds(self):
+        """{name: kind} in the scene's order."""
+        return dict(self.order)
+
+    def averaged(self):
+        """Whether some probe averages over each outer step's fluid steps (Simulation calls after_fluid_step)."""
+        return bool(self.pressure or self.forces)
+
+    def after_fluid_step(self, sim, dt):
+        """The pressure and force probes' values after a fluid step of `dt`, into their outer step's means."""
+        if self.pressure:
+            f = sim.fluid
+            self._pressure_mean.add(shepard_pressure(self._pressure_points, f.pos, f.mass, f.rho, f.pressure,
+                                                     sim.h), dt)
+        if self.forces:
+            self._force_mean.add(self._forces(sim), dt)
+
+    def _groups(self, sim):
+        """Each of the fluid solver's wall particles' force probe (-1: none): its rows are the scene's walls, then a
+        gate while it stands (Simulation), then the solid in a coupled scene (coupling.Coupling.boundary)."""
+        solver = sim.fluid_solver
+        if self._wall_groups is None or self._wall_groups[0] is not solver:
+            groups = np.full(solver.wall_pos.shape[0], -1, dtype=np.int64)
+            walls = sim.walls.count if sim.walls is not None else 0
+            for k, probe in enumerate(self.forces):
+                if probe.phase == "walls":
+                    groups[probe.indices] = k
+                elif probe.phase == "gate" and sim.gate_standing():
+                    groups[walls + probe.indices] = k
+            self._wall_groups = (solver, groups)
+        return self._wall_groups[1]
+
+    def _forces(self, sim):
+        out = np.zeros((len(self.forces), 3))
+        groups = self._groups(sim)
+        if (groups >= 0).any():
+            out += sim.fluid_solver.wall_forces(groups, len(self.forces))
+        for k, probe in enumerate(self.forces):
+            if probe.phase == "solid" and sim.coupling is not None:
+                out[k] += sim.solid.mass[probe.indices] @ sim.coupling.acc[probe.indices]
+        return out
+
+    def read(self, sim):
+        """{name: (kind, {quantity: value})} now, in the scene's order (the interval means since the last read)."""
+        out = {}
+        for probe in self.groups:
+            positions = sim.solid.pos if probe.phase == "solid" else sim.fluid.pos
+            out[probe.name] = ("displacement", {"displacement": _triple(probe.displacement(positions))})
+        if self.points:
+            vel = sim.solid_velocity()
+            for probe in self.points:
+                out[probe.name] = ("point", {
+                    "displacement": _triple(sim.solid.pos[probe.index] - probe.reference_position),
+                    "velocity": _triple(vel[probe.index])})
+        if self.pressure:
+            for probe, p in zip(self.pressure, self._pressure_mean.take()):
+                out[probe.name] = ("pressure", {"pressure": float(p)})
+        if self.heights:
+            water_pos, water_volume, wall_pos, wall_volume = sim.filling_particles()
+            step = sim.spacing / HEIGHT_SAMPLES_PER_SPACING
+            for probe in self.heights:
+                x, y, z0 = probe.position
+                height = surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, sim.h, step)
+                out[probe.name] = ("water_height", {"height": float(height),
+                                                    "surface": (float(x), float(y), float(z0 + height))})
+        if self.forces:
+            for probe, f in zip(self.forces, self._force_mean.take()):
+                out[probe.name] = ("force", {"force": _triple(f)})
+        return {name: out[name] for name, _ in self.order}
+
+
+def _triple(v):
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+class IntervalMean:
+    """A value averaged over the fluid steps of an outer step, weighted by their lengths."""
+
+    def __init__(self, shape=()):
+        self.total = np.zeros(shape)
+        self.duration = 0.0
+        self.last = np.zeros(shape)
+
+    def add(self, value, dt):
+        self.total += dt * np.asarray(value)
+        self.duration += dt
+
+    def take(self):
+        """The mean since the last take (the last mean again if no step was added)."""
+        if self.duration > 0.0:
+            self.last = self.total / self.duration
+        self.total = np.zeros_like(self.total)
+        self.duration = 0.0
+        return self.last
+
+
+def probe_columns(kind, name, values):
+    """The time-series columns of one probe's values (module docstring)."""
+    if kind in ("displacement", "point"):
+        d = values["displacement"]
+        out = {f"{name}_dx": d[0], f"{name}_dy": d[1], f"{name}_dz": d[2]}
+        if "velocity" in values:
+            v = values["velocity"]
+            out.update({f"{name}_vx": v[0], f"{name}_vy": v[1], f"{name}_vz": v[2]})
+        return out
+    if kind == "pressure":
+        return {name: values["pressure"]}
+    if kind == "water_height":
+        return {name: values["height"]}
+    f = values["force"]
+    return {f"{name}_fx": f[0], f"{name}_fy": f[1], f"{name}_fz": f[2]}

@@ -1,0 +1,349 @@
+"""A scene from geometry, no code: parts (water, walls, elastic solids, gates) of boxes, cylinders, spheres and
+closed meshes placed in the world, probes at named places and judges of the time series, all in the scene file.
+
+    scene: {builder: geometry, end_time: 1.0}
+    numerics: {spacing: 0.02}
+    parts:
+      - {name: tank, role: wall, shape: box, size: [3.22, 1.0, 1.0], position: [1.61, 0.0, 0.5], side: outside,
+         open: "+z"}
+      - {name: water, role: water, shape: box, size: [1.228, 1.0, 0.55], position: [2.606, 0.0, 0.275]}
+    probes:
+      - {name: H2, kind: water_height, position: [0.992, 0.0, 0.0]}
+
+Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometry.lattice_origin + (i + 1/2) dp,
+those its shape holds by its role (geometry/fill.py). Parts may not share a site; a solid needs three particle
+layers through for the quadratic fit (the default scheme's). The phases follow from the parts (geometry/parts.py):
+a scene without a solid part has no solid arrays, passes, topics or channels. Probes (probes.py) and judges
+(validation/judges.py) are declared beside the parts; the summary reports each judge's measure and error.
+"""
+import numpy as np
+
+from ..geometry.fill import estimated_sites, part_sites, parts_of, resolve_files  # noqa: F401  (builder interface)
+from ..geometry.lattice import Lattice, dilate, site_keys
+from ..geometry.parts import list_entries, list_params, phases_of  # noqa: F401  (builder interface)
+from ..probes import ProbeSpec
+from ..schema import Param, SceneError
+from ..state import FluidState, SolidState, WallState
+from ..validation.judges import check_judges, evaluate_judges
+from ..validation.references import cantilever_mode_velocity
+from .built import Built, clamp_mirror_across
+from .tank import WATER_STARTS, bottom_compression, compress_column, lattice_density_scale
+
+PHASES = ("solid", "fluid", "walls", "coupling")   # the most a geometry scene has; its own: phases_of(its keys)
+CONSERVATIVE = False
+
+GEOMETRY = [
+    Param("geometry.lattice_origin", (0.0, 0.0, 0.0), "m", "The lattice: sites at lattice_origin + (i + 1/2) "
+          "numerics.spacing along each axis", kind="vec3"),
+    Param("geometry.domain_margin", 0.0, "m", "How far the domain reaches beyond the parts (0: a tenth of their "
+          "largest extent, at least 10 h); water that leaves it is held still and counted (watchdog.max_fluid_lost)",
+          low=0.0, high=1.0e3),
+    Param("geometry.water_start", "lattice", "", "How the water is built: 'lattice' on its lattice with no pressure "
+          "(the paper's), 'compressed' each water part as the density correction holds a column at rest (compression "
+          "linear in depth to the tolerance at its floor), the wall sites beside it compressed the same way "
+          "(scenes/tank.py compress_column)", kind="str", choices=WATER_STARTS),
+]
+
+DEFAULTS = {"scene.gravity": (0.0, 0.0, -9.81), "scene.end_time": 1.0, "output.timeseries_interval": 1.0e-3,
+            "output.snapshot_interval": 0.05}
+
+# time-series columns a judge may name besides the probes' (simulation.Simulation.sample)
+RUN_COLUMNS = ("time", "kinetic_energy", "strain_energy", "fluid_kinetic_energy", "coupling_force_x",
+               "coupling_force_y", "coupling_force_z", "iterations_mean", "density_error_max", "density_error_mean")
+
+
+def declared_columns(values):
+    """{column: probe name} of the scene's probes (probes.columns)."""
+    out = {}
+    for name, keys in list_entries(values, "probes").items():
+        kind = keys["kind"]
+        if kind == "point":
+            cols = [f"{name}_{c}" for c in ("dx", "dy", "dz", "vx", "vy", "vz")]
+        elif kind == "force":
+            cols = [f"{name}_{c}" for c in ("fx", "fy", "fz")]
+        else:
+            cols = [name]
+        out.update({c: name for c in cols})
+    return out
+
+
+def check(values):
+    """Everything that can be refused before building: the parts (sizes, meshes, walls, clamps), the probes and
+    the judges, each naming its key."""
+    parts = parts_of(values)
+    if not parts:
+        raise SceneError("parts: none; allowed: at least one part (a geometry scene is built from its parts)")
+    roles = {p.role for p in parts}
+    by_name = {p.name: p for p in parts}
+    for part in parts:
+        if part.role in ("wall", "gate"):
+            estimated_sites(part, values)          # checks layers and open faces
+        if part.role == "solid":
+            lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
+            if (lo != hi).any() and not (lo < hi).all():
+                raise SceneError(f"{part.key('clamp_hi')} = {list(hi)}: not above clamp_lo = {list(lo)} on every "
+                                 f"axis; allowed: a box with clamp_lo < clamp_hi (or both equal: no clamp)")
+        if part.role == "gate" and part.keys["release"] == "lifted" and not np.any(part.keys["lift_velocity"]):
+            raise SceneError(f"{part.key('lift_velocity')} = [0, 0, 0]: a lifted gate must move; allowed: a non-zero "
+                             f"velocity (or release = instant)")
+    gates = [p for p in parts if p.role == "gate"]
+    if len({(p.keys["release"], tuple(p.keys["lift_velocity"]) if p.keys["release"] == "lifted" else ())
+            for p in gates}) > 1:
+        raise SceneError(f"parts.{gates[1].name}.release: every gate of a scene is released alike (one release and "
+                         f"one lift velocity); allowed: the same as parts.{gates[0].name}'s")
+    for name, keys in list_entries(values, "probes").items():
+        kind = keys["kind"]
+        if kind == "point" and "solid" not in roles:
+            raise SceneError(f"probes.{name}.kind = 'point': the scene has no solid part; allowed: a point probe on a "
+                             f"scene with a solid")
+        if kind in ("pressure", "water_height") and "water" not in roles:
+            raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no water part; allowed: a water probe on "
+                             f"a scene with water")
+        if kind == "force":
+            target = by_name.get(keys["part"])
+            allowed = [p.name for p in parts if p.role in ("wall", "gate", "solid")]
+            if target is None or target.role not in ("wall", "gate", "solid"):
+                raise SceneError(f"probes.{name}.part = {keys['part']!r}: not a wall, gate or solid part; allowed: one "
+                                 f"of " + ", ".join(repr(a) for a in allowed))
+            if "water" not in roles:
+                raise SceneError(f"probes.{name}.kind = 'force': the scene has no water part; allowed: a force probe "
+                                 f"on a scene with water")
+    check_judges(values, set(declared_columns(values)) | set(RUN_COLUMNS))
+
+
+def particle_counts(values):
+    """About how many particles each phase will have (the memory guard's count: from the parts' volumes and
+    surfaces, nothing built)."""
+    counts = {}
+    phase = {"water": "fluid", "solid": "solid", "wall": "walls", "gate": "walls"}
+    for part in parts_of(values):
+        counts[phase[part.role]] = counts.get(phase[part.role], 0) + estimated_sites(part, values)
+    return counts
+
+
+def _overlap(names, sites):
+    """The first two parts that claim the same lattice site: (name a, name b, sites they share, one of them, how many
+    pairs of parts overlap); None if none do."""
+    everything = np.concatenate(sites)
+    lo = everything.min(axis=0)
+    counts = everything.max(axis=0) - lo + 1
+    keys = site_keys(everything, lo, counts)
+    owner = np.repeat(np.arange(len(sites)), [len(s) for s in sites])
+    order = np.argsort(keys, kind="stable")
+    same = np.flatnonzero(keys[order][1:] == keys[order][:-1])
+    if len(same):
+        first = order[same[0]], order[same[0] + 1]
+        a, b = names[owner[first[0]]], names[owner[first[1]]]
+        pairs = {(names[owner[order[i]]], names[owner[order[i + 1]]]) for i in same}
+        shared = sum(1 for i in same if (names[owner[order[i]]], names[owner[order[i + 1]]]) == (a, b))
+        return a, b, shared, everything[first[0]], len(pairs)
+    return None
+
+
+def _clamp(part, pos, values):
+    """(movable mask, (axis, face) or None) of a solid part: its particles inside the clamp box are its clamp; the
+    clamp face is the box face the body crosses, halfway between the clamp's last layer and the body's first."""
+    lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
+    if not (lo < hi).all():
+        return np.ones(len(pos), dtype=bool), None
+    clamped = np.all((pos > lo) & (pos < hi), axis=1)
+    if not clamped.any():
+        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{list(lo)}, {list(hi)}] holds none of the part's "
+                         f"particles; allowed: a box around the part's clamped end")
+    if clamped.all():
+        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{list(lo)}, {list(hi)}] holds all of the part's "
+                         f"particles; allowed: a box around its clamped end only")
+    free = pos[~clamped]
+    faces = []
+    for axis in range(3):
+        for side, bound in ((-1, lo[axis]), (1, hi[axis])):
+            beyond = free[:, axis] > bound if side > 0 else free[:, axis] < bound
+            if beyond.any():
+                faces.append((axis, side))
+    if len(faces) != 1:
+        raise SceneError(f"{part.key('clamp_lo')}: the body leaves the clamp box [{list(lo)}, {list(hi)}] through "
+                         f"{len(faces)} faces; allowed: one (the clamp face: the box must reach past the body on its "
+                         f"other sides)")
+    axis, side = faces[0]
+    if side > 0:
+        face = 0.5 * (pos[clamped, axis].max() + free[:, axis].min())
+    else:
+        face = 0.5 * (pos[clamped, axis].min() + free[:, axis].max())
+    return ~clamped, (axis, face, side)
+
+
+def _solid(parts, sites, lattice, values):
+    """The solid's state, clamp mirror map, {part: indices} and the body's thickness check."""
+    dp = values["numerics.spacing"]
+    positions, movables, mirrors, index = [], [], [], {}
+    velocities = []
+    offset = 0
+    for part, s in zip(parts, sites):
+        pos = lattice.positions(s)
+        movable, face = _clamp(part, pos, values)
+        if values["solid.velocity_gradient"] == "quadratic":
+            grid = np.zeros(tuple(s.max(axis=0) - s.min(axis=0) + 3), dtype=bool)
+            grid[tuple((s - s.min(axis=0) + 1).T)] = True
+            if not (grid & ~dilate(~grid, 1)).any():
+                raise SceneError(f"parts.{part.name}: under three particle layers through everywhere at "
+                                 f"numerics.spacing = {dp:g} m; allowed: a finer spacing (the quadratic fit of "
+                                 f"solid.velocity_gradient = quadratic needs three), or solid.scheme = gray2001")
+        vel = np.tile(np.asarray(part.keys["velocity"], dtype=np.float64), (len(pos), 1))
+        tip = np.asarray(part.keys["mode_tip_velocity"], dtype=np.float64)
+        if tip.any():
+            if face is None:
+                raise SceneError(f"{part.key('mode_tip_velocity')}: a cantilever's mode needs a clamp; allowed: "
+                                 f"clamp_lo and clamp_hi around the clamped end (or mode_tip_velocity = [0, 0, 0])")
+            axis, plane, side = face
+            along = side * (pos[:, axis] - plane)
+            length = float(along[movable].max()) + 0.5 * dp
+            speed = float(np.linalg.norm(tip))
+            profile = cantilever_mode_velocity(np.clip(along, 0.0, None), length, speed)
+            vel[movable] += profile[movable, None] * (tip / speed)
+        mirror = np.full(len(pos), -1, dtype=np.int64)
+        if face is not None:
+            mirror = clamp_mirror_across(pos, movable, face[0], face[1], dp)
+            mirror[mirror >= 0] += offset
+        vel[~movable] = 0.0
+        positions.append(pos)
+        movables.append(movable)
+        mirrors.append(mirror)
+        velocities.append(vel)
+        index[part.name] = np.arange(offset, offset + len(pos))
+        offset += len(pos)
+    pos = np.concatenate(positions)
+    solid = SolidState.at_rest(pos, np.concatenate(movables), values["solid.density"], dp)
+    solid.vel[:] = np.concatenate(velocities)
+    mirror = np.concatenate(mirrors)
+    return solid, (mirror if (mirror >= 0).any() else None), index
+
+
+def _compress(values, water_sites, wall_sites, lattice):
+    """geometry.water_start = compressed: each water part's column compressed as it sits at rest, and the wall
+    sites beside it (within the kernel's reach of its footprint, over its height) moved the same way."""
+    dp = values["numerics.spacing"]
+    compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
+    reach = 2.0 * values["numerics.smoothing_ratio"] * dp + dp
+    water_pos = [lattice.positions(s) for s in water_sites]
+    walls = [lattice.positions(s) for s in wall_sites]
+    for pos in water_pos:
+        floor = pos[:, 2].min() - 0.5 * dp
+        height = pos[:, 2].max() + 0.5 * dp - floor
+        lo, hi = pos[:, :2].min(axis=0) - reach, pos[:, :2].max(axis=0) + reach
+        for w in walls:
+            beside = np.all((w[:, :2] > lo) & (w[:, :2] < hi), axis=1) & (w[:, 2] > floor)
+            w[beside, 2] = compress_column(w[beside, 2], floor, height, compression)
+        pos[:, 2] = compress_column(pos[:, 2], floor, height, compression)
+    return water_pos, walls
+
+
+def build(values):
+    dp = values["numerics.spacing"]
+    lattice = Lattice(dp, values["geometry.lattice_origin"])
+    parts = parts_of(values)
+    sites = [part_sites(p, lattice, values) for p in parts]
+    overlap = _overlap([p.name for p in parts], sites)
+    if overlap is not None:
+        a, b, shared, where, pairs = overlap
+        more = f" (and {pairs - 1} more pair(s) of parts)" if pairs > 1 else ""
+        raise SceneError(f"parts.{b}: overlaps parts.{a} at {shared} lattice site(s), e.g. "
+                         f"{np.round(lattice.positions(where[None])[0], 6).tolist()} m{more}; allowed: parts that share "
+                         f"no site at numerics.spacing = {dp:g} m (move or shrink one)")
+    by_role = {role: [(p, s) for p, s in zip(parts, sites) if p.role == role] for role in ("water", "wall", "gate",
+                                                                                           "solid")}
+    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
+    built = Built()
+    index = {}
+    water = by_role["water"]
+    walls = by_role["wall"] + by_role["gate"]
+    water_pos = [lattice.positions(s) for _, s in water]
+    wall_pos = [lattice.positions(s) for _, s in walls]
+    if water and values["geometry.water_start"] == "compressed":
+        water_pos, wall_pos = _compress(values, [s for _, s in water], [s for _, s in walls], lattice)
+    if water:
+        rho0 = values["fluid.density"]
+        built.fluid = FluidState.at_rest(np.concatenate(water_pos), rho0, dp, mass_scale=scale)
+        offset = 0
+        for (part, _), pos in zip(water, water_pos):
+            built.fluid.vel[offset:offset + len(pos)] = np.asarray(part.keys["velocity"])
+            index[part.name] = ("fluid", np.arange(offset, offset + len(pos)))
+            offset += len(pos)
+    rho0 = values.get("fluid.density", 1000.0)
+    fixed = [(p, pos) for (p, _), pos in zip(walls, wall_pos) if p.role == "wall"]
+    released = [(p, pos) for (p, _), pos in zip(walls, wall_pos) if p.role == "gate"]
+    if fixed:
+        built.walls = WallState.lattice(np.concatenate([pos for _, pos in fixed]), rho0, dp, mass_scale=scale)
+        offset = 0
+        for part, pos in fixed:
+            index[part.name] = ("walls", np.arange(offset, offset + len(pos)))
+            offset += len(pos)
+    if released:
+        built.release_walls = WallState.lattice(np.concatenate([pos for _, pos in released]), rho0, dp,
+                                                mass_scale=scale)
+        first = released[0][0]
+        if first.keys["release"] == "lifted":
+            built.release_velocity = np.asarray(first.keys["lift_velocity"], dtype=np.float64)
+            built.release_travel = first.keys["lift_travel"] or _lift_travel(built, values)
+        offset = 0
+        for part, pos in released:
+            index[part.name] = ("gate", np.arange(offset, offset + len(pos)))
+            offset += len(pos)
+    if by_role["solid"]:
+        built.solid, built.clamp_mirror, solid_index = _solid([p for p, _ in by_role["solid"]],
+                                                              [s for _, s in by_role["solid"]], lattice, values)
+        index.update({name: ("solid", idx) for name, idx in solid_index.items()})
+    built.parts = index
+    built.probes = _probes(values, built, index)
+    built.domain_lo, built.domain_hi = _domain(values, built)
+    return built
+
+
+def _lift_travel(built, values):
+    """A lifted gate's travel: until its lowest particle is 2h above the water's top."""
+    h = values["numerics.smoothing_ratio"] * values["numerics.spacing"]
+    top = built.fluid.pos[:, 2].max() if built.fluid is not None else 0.0
+    lowest = built.release_walls.pos[:, 2].min()
+    direction = built.release_velocity / np.linalg.norm(built.release_velocity)
+    rise = top + 2.0 * h - lowest
+    return float(max(rise, 0.0) / max(direction[2], 1e-3)) if direction[2] > 0 else float(
+        np.ptp(built.release_walls.pos, axis=0).max() + 2.0 * h)
+
+
+def _domain(values, built):
+    """The domain box: every particle's box (a lifted gate's whole travel included), `geometry.domain_margin` beyond
+    it (0: a tenth of its largest extent, at least 10 h)."""
+    pos = [s.pos for s in (built.solid, built.fluid, built.walls, built.release_walls) if s is not None]
+    if built.release_velocity is not None:
+        travel = built.release_velocity / np.linalg.norm(built.release_velocity) * built.release_travel
+        pos.append(built.release_walls.pos + travel)
+    everything = np.concatenate(pos)
+    lo, hi = everything.min(axis=0), everything.max(axis=0)
+    margin = values["geometry.domain_margin"]
+    if margin == 0.0:
+        h = values["numerics.smoothing_ratio"] * values["numerics.spacing"]
+        margin = max(0.1 * float((hi - lo).max()), 10.0 * h)
+    return lo - margin, hi + margin
+
+
+def _probes(values, built, index):
+    """The scene's probes (probes.ProbeSpec), each placed on what it measures."""
+    out = []
+    for name, keys in list_entries(values, "probes").items():
+        kind = keys["kind"]
+        if kind == "point":
+            pos = built.solid.pos
+            candidates = np.flatnonzero(built.solid.movable)
+            at = candidates[np.argmin(((pos[candidates] - np.asarray(keys["position"])) ** 2).sum(axis=1))]
+            out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64), index=int(at),
+                                 reference_position=pos[at].copy()))
+        elif kind == "force":
+            phase, idx = index[keys["part"]]
+            out.append(ProbeSpec(name, kind, phase=phase, indices=idx))
+        else:
+            out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64)))
+    return out
+
+
+def evaluate(series, values):
+    """The scene's judges (validation/judges.py): each one's measure, reference and error; `error` is the first's."""
+    return evaluate_judges(series, values)
