@@ -8,10 +8,12 @@ A probe has a name, a kind and its time-series columns:
     pressure      `<name>` Pa: the water's pressure at a point on a wall, p = sum_b V_b p_b W(x - x_b) / sum_b V_b W
                   over the water within reach (2h) of the point (Shepard's average; 0 when no water is within
                   reach), each fluid step's averaged over the outer step, weighted by the steps' lengths
-    water_height  `<name>` m: the free surface's height above the probe's position along z: the highest point of
-                  the vertical line through (x, y) where the water and the walls fill at least half the kernel,
-                  sum_b V_b W(x - x_b) >= 1/2 over water and wall particles (the walls count as filled, so the
-                  line starts full at a floor), less the position's z; 0 when the line is dry above it
+    water_height  `<name>` m: the free surface's height above the probe's position along z: up the vertical line
+                  through (x, y) from the position, the first point where the water and the walls stop filling half
+                  the kernel, sum_b V_b W(x - x_b) < 1/2 over water and wall particles (the walls count as filled,
+                  so the line starts full at a floor), less the position's z; 0 when the line is not filled there.
+                  The column standing on the floor, as a wave gauge is wetted: a jet or spray above air is not
+                  counted
     force         `<name>_fx, _fy, _fz` N: the water's force on a part: on a wall, the pressure pair forces of the
                   fluid step's correction (its accumulated pressures at its end positions, fluid.stepper
                   FluidSolver.wall_forces); on a solid, the coupling's push on the part's particles; each fluid
@@ -93,26 +95,26 @@ def _near_line(x, y, pos, reach):
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, h, step):
-    """Above z0 on the vertical line through (x, y): the highest z where the water and the walls fill the kernel,
-    sum_b V_b W(x - x_b) >= FILLED (linear between samples `step` apart), less z0; 0 where the line is not filled
-    above z0 (module docstring)."""
+    """Up the vertical line through (x, y) from z0: where the water and the walls stop filling the kernel, the first
+    z at which sum_b V_b W(x - x_b) falls below FILLED (linear between samples `step` apart), less z0; 0 where the
+    line is not filled at z0 (module docstring). The column standing on z0, as a wave gauge's wire is wetted from
+    the floor: spray or a jet flying above it does not count."""
     reach = SUPPORT_RADIUS_IN_H * h
     water = _near_line(x, y, water_pos, reach)
     walls = _near_line(x, y, wall_pos, reach)
     top = z0
     for b in water:
         top = max(top, water_pos[b, 2] + reach)
-    found = 0.0
     previous = 0.0
     n = int(math.ceil((top - z0) / step)) + 1
     for k in range(n):
         z = z0 + k * step
         fill = _line_fill(z, x, y, water_pos, water_volume, water, h) + _line_fill(z, x, y, wall_pos, wall_volume,
                                                                                     walls, h)
-        if k > 0 and previous >= FILLED and fill < FILLED:
-            found = (k - 1) * step + step * (previous - FILLED) / (previous - fill)
+        if fill < FILLED:
+            return 0.0 if k == 0 else (k - 1) * step + step * (previous - FILLED) / (previous - fill)
         previous = fill
-    return found
+    return (n - 1) * step
 
 
 class ProbeSet:

@@ -1,25 +1,7 @@
 """What `sph-fsi validate` runs: each case a list of rungs (a scene, overrides, an end time), with the bound
 that `--quick` asserts on its coarse rungs. Running them is ladder.py's; the tables and plots report.py's."""
-from dataclasses import dataclass
-
-
-@dataclass(frozen=True)
-class Rung:
-    case: str
-    label: str
-    scene: str
-    overrides: dict
-    periods: float = 0.0        # cantilever rungs: run this many periods of the reference frequency
-    end_time: float = 0.0       # or a fixed end time
-    quick: bool = False         # part of --quick (CI)
-    bound: float = None         # --quick asserts error <= bound
-    note: str = ""
-    snapshot_interval: float = 0.0   # particle snapshots (0: none), for the frame plots
-    counterpart: str = ""       # "case/label" of the same run made another way, reported side by side
-
-    @property
-    def key(self):
-        return f"{self.case}/{self.label}"
+from . import spheric2
+from .rung import Rung  # noqa: F401  (the cases' rungs; ladder.py and report.py take it from here)
 
 
 # The default scheme as the rungs that carry this were run, before it took the implicit pressure and the fit turned
@@ -657,7 +639,8 @@ def _gate_span_rungs():
 def all_rungs():
     return (_cantilever_rungs() + _cantilever_shape_rungs() + _large_deflection_rungs() + _solid_static_rungs()
             + _clamp_effect_rungs() + _hydrostatic_plate_rungs() + _fluid_rungs() + _gate_rungs() + _gate_default_rungs()
-            + _gate_static_rungs() + _solid_pressure_rungs() + _volumetric_gradient_rungs() + _gate_span_rungs())
+            + _gate_static_rungs() + _solid_pressure_rungs() + _volumetric_gradient_rungs() + _gate_span_rungs()
+            + spheric2.rungs())
 
 
 # Names that select several cases at once.

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .references import lobovsky_front, read_reference_csv
+from . import spheric2
 from .cases import CANTILEVER_CASES
 from ..scenes.elastic_gate import PAPER_GATE_WIDTH_M
 
@@ -905,6 +906,7 @@ def _plots(out_dir, rungs, summaries):
     made += _gate_plots(out_dir, rungs, summaries, plt)
     made += _gate_snapshot_plots(out_dir, rungs, summaries, plt)
     made += _gate_span_plot(out_dir, rungs, summaries, plt)
+    made += spheric2.plot(out_dir, [r for r in rungs if r.case == spheric2.CASE], summaries, plt, _series_rows)
     return made
 
 
@@ -958,6 +960,8 @@ def write_report(out_dir, rungs, summaries):
     lines += _gate_extra(rungs, summaries)
     lines += _solid_pressure_extra(out, rungs, summaries)
     lines += _gate_span_extra(out, rungs, summaries)
+    if any(r.case == spheric2.CASE for r in rungs):
+        lines += spheric2.table([r for r in rungs if r.case == spheric2.CASE], summaries)
     lines += ["", "## Plots", ""] + [f"![{p}]({p})" for p in plots]
     (out / "REPORT.md").write_text("\n".join(lines) + "\n")
     return out / "REPORT.md"

@@ -1,0 +1,21 @@
+"""A rung of a validation case: one run of a scene with its overrides and end time (cases.py lists them)."""
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Rung:
+    case: str
+    label: str
+    scene: str
+    overrides: dict
+    periods: float = 0.0        # cantilever rungs: run this many periods of the reference frequency
+    end_time: float = 0.0       # or a fixed end time
+    quick: bool = False         # part of --quick (CI)
+    bound: float = None         # --quick asserts error <= bound
+    note: str = ""
+    snapshot_interval: float = 0.0   # particle snapshots (0: none), for the frame plots
+    counterpart: str = ""       # "case/label" of the same run made another way, reported side by side
+
+    @property
+    def key(self):
+        return f"{self.case}/{self.label}"
