@@ -299,14 +299,15 @@ def build(values):
 
 
 def _lift_travel(built, values):
-    """A lifted gate's travel: until its lowest particle is 2h above the water's top."""
+    """A lifted gate's travel when the scene does not give it: until its lowest particle is 2h above the water's top
+    (lobovsky_dam_break's rule) if it rises; otherwise its own largest extent plus 2h, out of its way."""
     h = values["numerics.smoothing_ratio"] * values["numerics.spacing"]
-    top = built.fluid.pos[:, 2].max() if built.fluid is not None else 0.0
-    lowest = built.release_walls.pos[:, 2].min()
     direction = built.release_velocity / np.linalg.norm(built.release_velocity)
-    rise = top + 2.0 * h - lowest
-    return float(max(rise, 0.0) / max(direction[2], 1e-3)) if direction[2] > 0 else float(
-        np.ptp(built.release_walls.pos, axis=0).max() + 2.0 * h)
+    gate = built.release_walls.pos
+    if direction[2] > 1e-3 and built.fluid is not None:
+        rise = built.fluid.pos[:, 2].max() + 2.0 * h - gate[:, 2].min()
+        return float(max(rise, 0.0) / direction[2])
+    return float(np.ptp(gate, axis=0).max() + 2.0 * h)
 
 
 def _domain(values, built):
