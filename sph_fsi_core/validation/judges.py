@@ -10,8 +10,9 @@
                measurement sampled at 1 kHz and a simulation's 1 ms samples are both noisy at an impact: the same
                window on both).
 
-Each judge reports its measures, its error (relative for frequency and mean; the RMS for a series, in the column's
-unit) and, where the scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
+Each judge reports its measures, its error (relative: to the reference for a frequency and a mean; for a series the
+RMS over the measured series' range in the window, the RMS itself in the column's unit beside it) and, where the
+scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
 A measurement file is a CSV with '#' comment lines and a header row, time (s) in its first column; a path relative to
 the scene file, or `reference_data:<name>` for the package's copies (validation/reference_data, with their sources).
 """
@@ -124,9 +125,10 @@ def judge_series(series, keys):
             continue
         d = np.interp(te[inside] - shift, t_sim, y_sim_avg) - ye[inside]
         best = min(best, (float(np.sqrt(np.mean(d ** 2))), float(shift)))
-    out = {"rms": rms, "rms_relative_to_measured_range": rms / float(np.ptp(ye)) if np.ptp(ye) > 0 else None,
+    relative = rms / float(np.ptp(ye)) if np.ptp(ye) > 0 else None
+    out = {"rms": rms, "rms_relative_to_measured_range": relative,
            "best_time_shift_s": round(best[1], 4), "rms_after_time_shift": best[0],
-           "from_s": start, "to_s": end, "average_window_s": keys["average"], "error": rms}
+           "from_s": start, "to_s": end, "average_window_s": keys["average"], "error": relative}
     if keys["rms_tolerance"] > 0.0:
         out["rms_tolerance"] = keys["rms_tolerance"]
         out["check_rms"] = rms <= keys["rms_tolerance"]
@@ -195,7 +197,7 @@ def evaluate_judges(series, values):
     if judges:
         first, result = next(iter(judges.items()))
         what = {"frequency": "relative error of the frequency", "mean": "relative error of the mean",
-                "series": "RMS difference from the measured series"}[result["kind"]]
+                "series": "RMS difference from the measured series over its range"}[result["kind"]]
         out["error"] = result.get("error")
         out["error_metric"] = f"{what} of {result['column']} (judge '{first}'" + (
             f", {result['source']})" if result["source"] else ")")
