@@ -370,8 +370,8 @@ def test_the_cantilever_from_a_box_and_from_an_stl_swings_at_the_built_in_cantil
 
 @pytest.mark.slow
 def test_the_hydrostatic_tank_from_two_boxes_holds_the_built_in_tanks_floor_pressure():
-    """0.6 s at 5 mm (the validation ladder's CI rung): the floor pressure (the built-in scene's line fit of p(z),
-    settled) of the geometry tank within 0.1 % of the built-in closed tank's."""
+    """0.6 s at 5 mm (the validation ladder's CI rung's spacing and time): the floor pressure (the built-in scene's
+    line fit of p(z), over the last 30 %) of the geometry tank within 0.1 % of the built-in closed tank's."""
     from sph_fsi_core.scenes.hydrostatic import floor_pressure_fit
     from sph_fsi_core.simulation import Simulation
     common = ["numerics.spacing=0.005", "output.snapshot_interval=0"]
@@ -385,7 +385,9 @@ def test_the_hydrostatic_tank_from_two_boxes_holds_the_built_in_tanks_floor_pres
                 values.append(floor_pressure_fit(sim.fluid.pos, sim.fluid.pressure, 0.05, 0.1, sim.h)[0])
         return float(np.mean(values))
 
-    builtin = settled_floor_pressure(load_scene("hydrostatic", common + ["geometry.periodic_y=false"]))
+    # the example's 15 mm across: 3 layers at 5 mm (the built-in scene counts its layers)
+    builtin = settled_floor_pressure(load_scene("hydrostatic", common + ["geometry.periodic_y=false",
+                                                                         "geometry.span_layers=3"]))
     parts = settled_floor_pressure(load_scene(str(EXAMPLES / "hydrostatic_geometry.yaml"), common))
-    assert builtin == pytest.approx(1000.0 * 9.81 * 0.1, rel=0.02)
-    assert parts == pytest.approx(builtin, rel=1e-3)
+    assert builtin == pytest.approx(1000.0 * 9.81 * 0.1, rel=0.04)    # -2.6 % in this narrow tank at 0.6 s
+    assert parts == pytest.approx(builtin, rel=1e-3)                  # measured: the same to the bit
