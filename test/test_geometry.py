@@ -391,3 +391,15 @@ def test_the_hydrostatic_tank_from_two_boxes_holds_the_built_in_tanks_floor_pres
     parts = settled_floor_pressure(load_scene(str(EXAMPLES / "hydrostatic_geometry.yaml"), common))
     assert builtin == pytest.approx(1000.0 * 9.81 * 0.1, rel=0.04)    # -2.6 % in this narrow tank at 0.6 s
     assert parts == pytest.approx(builtin, rel=1e-3)                  # measured: the same to the bit
+
+
+def test_a_frequency_is_not_judged_on_less_than_a_period():
+    from sph_fsi_core.validation.judges import evaluate_judges
+    values = load_scene(str(EXAMPLES / "cantilever_geometry.yaml")).values
+    t = np.linspace(0.0, 0.03, 121)                    # half a period of 17.58 Hz
+    out = evaluate_judges({"time": t, "tip_dz": np.sin(2 * np.pi * 17.58 * t)}, values)
+    assert out["error"] is None and "0.53 periods" in out["judges"]["frequency"]["note"]
+    t = np.linspace(0.0, 0.3, 1201)
+    out = evaluate_judges({"time": t, "tip_dz": np.sin(2 * np.pi * 17.4 * t)}, values)
+    assert out["judges"]["frequency"]["measured"] == pytest.approx(17.4, rel=1e-3)
+    assert out["error"] == pytest.approx(0.18 / 17.58, rel=0.05)

@@ -34,6 +34,8 @@ SHIFT_RANGE = 0.2
 SHIFT_STEP = 1.0e-3
 # a peak is sought from this long before the measured onset (s)
 PEAK_LEAD = 0.01
+# a frequency is measured on a record of at least this many periods of its reference (as scenes/cantilever.py's)
+MIN_PERIODS = 1.0
 
 
 def measurement_path(value):
@@ -168,6 +170,11 @@ def judge_scalar(series, keys):
     start, end = _window(t, keys)
     use = (t >= start) & (t <= end)
     if keys["kind"] == "frequency":
+        covered = (float(t[use][-1] - t[use][0]) if use.sum() > 1 else 0.0) * keys["reference"]
+        if covered < MIN_PERIODS:   # part of a swing has crossings of ripples about its own mean
+            return {"measured": None, "reference": keys["reference"], "error_signed": None, "error": None,
+                    "from_s": start, "to_s": end, "note": f"not measured: the record covers {covered:.2f} periods "
+                                                          f"of the reference; at least {MIN_PERIODS:g} are needed"}
         est = measure_frequency(t[use], y[use])
         value = est.frequency
         extra = {"frequency_uncertainty": est.uncertainty, "periods": est.periods, "method": est.method}
