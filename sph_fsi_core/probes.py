@@ -137,13 +137,6 @@ class ProbeSet:
         self._force_mean = IntervalMean((len(self.forces), 3))
         self._wall_groups = None
 
-    def __len__(self):
-        return len(self.order)
-
-    def kinds(self):
-        """{name: kind} in the scene's order."""
-        return dict(self.order)
-
     def averaged(self):
         """Whether some probe averages over each outer step's fluid steps (Simulation calls after_fluid_step)."""
         return bool(self.pressure or self.forces)

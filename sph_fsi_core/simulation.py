@@ -80,7 +80,6 @@ class Simulation:
         self.domain_lo, self.domain_hi = built.domain_lo, built.domain_hi
         self.probes = built.probes
         self.probe_set = ProbeSet(built.probes)
-        self.parts = built.parts        # a geometry scene's {part: (phase, indices)}
         # a prescribed load on the solid and the damping that settles it to static (scenes/clamped_plate.py);
         # None and 0 in every other scene, which then cost nothing
         self.solid_load, self.load_ramp_time = built.solid_load, built.load_ramp_time

@@ -21,7 +21,7 @@ import numpy as np
 from ..geometry.fill import estimated_sites, part_sites, parts_of, resolve_files  # noqa: F401  (builder interface)
 from ..geometry.lattice import Lattice, dilate, site_keys
 from ..geometry.parts import list_entries, list_params, phases_of  # noqa: F401  (builder interface)
-from ..probes import ProbeSpec
+from ..probes import ProbeSpec, probe_columns
 from ..schema import Param, SceneError
 from ..state import FluidState, SolidState, WallState
 from ..validation.judges import check_judges, evaluate_judges
@@ -52,18 +52,18 @@ RUN_COLUMNS = ("time", "kinetic_energy", "strain_energy", "fluid_kinetic_energy"
                "coupling_force_y", "coupling_force_z", "iterations_mean", "density_error_max", "density_error_mean")
 
 
+# a reading of each probe kind with every quantity, for the names of its columns (probes.probe_columns)
+_ANY_READING = {"displacement": (0.0, 0.0, 0.0), "velocity": (0.0, 0.0, 0.0), "pressure": 0.0, "height": 0.0,
+                "force": (0.0, 0.0, 0.0)}
+
+
 def declared_columns(values):
-    """{column: probe name} of the scene's probes (probes.columns)."""
-    out = {}
+    """The time-series columns of the scene's probes (probes.probe_columns names them)."""
+    out = set()
     for name, keys in list_entries(values, "probes").items():
-        kind = keys["kind"]
-        if kind == "point":
-            cols = [f"{name}_{c}" for c in ("dx", "dy", "dz", "vx", "vy", "vz")]
-        elif kind == "force":
-            cols = [f"{name}_{c}" for c in ("fx", "fy", "fz")]
-        else:
-            cols = [name]
-        out.update({c: name for c in cols})
+        reading = dict(_ANY_READING) if keys["kind"] == "point" else {k: v for k, v in _ANY_READING.items()
+                                                                      if k != "velocity"}
+        out |= set(probe_columns(keys["kind"], name, reading))
     return out
 
 
@@ -141,8 +141,9 @@ def _overlap(names, sites):
 
 
 def _clamp(part, pos, values):
-    """(movable mask, (axis, face) or None) of a solid part: its particles inside the clamp box are its clamp; the
-    clamp face is the box face the body crosses, halfway between the clamp's last layer and the body's first."""
+    """(movable mask, (axis, face position, side +-1) or None) of a solid part: its particles inside the clamp box
+    are its clamp; the clamp face is the box face the body crosses, halfway between the clamp's last layer and the
+    body's first; side is the direction from the clamp into the body."""
     lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
     if not (lo < hi).all():
         return np.ones(len(pos), dtype=bool), None
