@@ -13,7 +13,8 @@ import time
 from pathlib import Path
 
 from . import DEFAULT_OUT_DIR
-from .cases import CASE_GROUPS, all_rungs, cantilever_end_time
+from .cases import CASE_GROUPS, all_rungs
+from .cases.cantilever import cantilever_end_time
 from .tasks import map_runs
 
 
@@ -38,7 +39,8 @@ def run_rung(args):
 
 
 def same_run(rung):
-    """Rungs with the same scene, overrides and duration are one run (the sweep's L = 40 mm is the ladder's H/dp = 4)."""
+    """Rungs with the same scene, overrides and duration are one run (the sweep's L = 40 mm is the ladder's
+    H/dp = 4)."""
     from ..scene import load_scene
     values = load_scene(rung.scene, list(rung.overrides.items())).values   # overrides equal to defaults count alike
     return rung.scene, repr(sorted(values.items())), rung.periods, rung.end_time

@@ -11,7 +11,7 @@ import json
 import time
 from pathlib import Path
 
-from .cases import CANTILEVER_SHAPE_POISSON, CANTILEVER_SHAPE_SLENDERNESS
+from .cases.cantilever_shapes import CANTILEVER_SHAPE_POISSON, CANTILEVER_SHAPE_SLENDERNESS
 from .linear_modes import (cantilever_frequency, clamped_plate_deflection, default_scheme_stable_cfl,
                            gate_loaded_deflection, implicit_step_iterations)
 

@@ -1,4 +1,5 @@
-"""A rung of a validation case: one run of a scene with its overrides and end time (cases.py lists them)."""
+"""A rung of a validation case: one run of a scene with its overrides and end time (each module of cases/ lists
+its case's)."""
 from dataclasses import dataclass
 
 

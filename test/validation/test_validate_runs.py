@@ -4,7 +4,7 @@ import json
 import numpy as np
 
 from sph_fsi_core.validation import ladder as validation
-from sph_fsi_core.validation.cases import Rung
+from sph_fsi_core.validation.rung import Rung
 
 
 def fake_runs(monkeypatch, summary):
@@ -96,7 +96,7 @@ def test_the_material_band_spans_the_materials_at_one_spacing_and_leaves_out_twi
     """Antoci's plot draws the published materials as a band per spacing (the verification issue's item 5): two
     materials at one spacing give one band, their envelope; a relaxed twin of one of them (another override) and a
     run at another spacing join none."""
-    from sph_fsi_core.validation.report import material_bands
+    from sph_fsi_core.validation.cases.gate import material_bands
     t = np.linspace(0.0, 0.4, 5)
 
     def curve(label, overrides, e, nu, peak):
@@ -108,7 +108,8 @@ def test_the_material_band_spans_the_materials_at_one_spacing_and_leaves_out_twi
     dp = 0.005 / 3
     bands = material_bands([
         curve("a", {"numerics.spacing": dp}, 12e6, 0.4, 0.0345),
-        curve("b", {"numerics.spacing": dp, "solid.young_modulus": 1e7, "solid.poisson_ratio": 0.49}, 1e7, 0.49, 0.0352),
+        curve("b", {"numerics.spacing": dp, "solid.young_modulus": 1e7, "solid.poisson_ratio": 0.49}, 1e7, 0.49,
+              0.0352),
         curve("c", {"numerics.spacing": dp, "coupling.relaxation": 0.25}, 12e6, 0.4, 0.0340),
         curve("d", {"numerics.spacing": 0.00125}, 12e6, 0.4, 0.0359)])
     assert len(bands) == 1

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .rung import Rung
+from ..report_tools import series_rows
+from ..rung import Rung
 
 CASE = "spheric2"
 SCENE = "spheric2_dam_break"
@@ -30,8 +31,11 @@ def _cell(x, spec=".3g", scale=1.0, unit=""):
     return "-" if x is None else f"{x * scale:{spec}}{unit}"
 
 
-def table(rungs_, summaries):
+def table(out_dir, rungs, summaries):
     """The case's section of the report: a row per rung, its cost and each judge's measures."""
+    mine = [r for r in rungs if r.case == CASE]
+    if not mine:
+        return []
     lines = ["", "## SPHERIC test 2: 3D dam break onto a box (MARIN, Kleefsman et al. 2005)", "",
              "Water heights H2 (in front of the box) and H4 (in the reservoir): RMS difference from the measurement "
              "over 0-6 s (goal 0.03 m) and the time shift that would minimise it. Pressures P1 and P3 on the box's "
@@ -44,7 +48,7 @@ def table(rungs_, summaries):
              "(shift [s]) | P1 onset diff [s] | P1 peak [kPa] (measured) | P3 onset diff [s] | P3 peak [kPa] "
              "(measured) | stable |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in rungs_:
+    for r in mine:
         s = summaries.get(r.key)
         if s is None:
             lines.append(f"| {r.label} | {r.overrides['numerics.spacing'] * 1e3:.3g} | not run |" + " |" * 10)
@@ -63,11 +67,11 @@ def table(rungs_, summaries):
     return lines
 
 
-def plot(out_dir, rungs_, summaries, plt, read_rows):
+def plot(out_dir, rungs, summaries, plt):
     """spheric2.png: each rung's H2, H4, P1 and P3 beside the measurement (the pressures 5 ms-averaged, as judged,
     over the first impact; the heights over 0-6 s)."""
-    from .judges import centred_mean, read_measurement
-    runs = [(r, read_rows(out_dir, r)) for r in rungs_ if r.key in summaries]
+    from ..judges import centred_mean, read_measurement
+    runs = [(r, series_rows(out_dir, r)) for r in rungs if r.case == CASE and r.key in summaries]
     runs = [(r, rows) for r, rows in runs if rows is not None]
     if not runs:
         return []
