@@ -1,14 +1,15 @@
 # sph_fsi: build, run and test from a local virtual environment.
 #   make run       create .venv, install everything pinned and compile the main job's kernels into Numba's cache
-#                  (about a minute, once: `sph-fsi compile`), run the ROS 2 node on the paper's elastic
-#                  gate at the paper's 1 mm (the default scheme: about 3 minutes on 2 cores; a progress line every
-#                  10 s),
-#                  recording MCAP + Rerun into runs/, its summary and time series into runs/elastic_gate/, exit at
-#                  the end. A quick look: make run NODE_PARAMS="-p numerics.spacing:=0.002 -p solid.scheme:=gray2001"
+#                  (once, `sph-fsi compile`: about 2 minutes on a fresh clone), then run the ROS 2 node on the
+#                  paper's elastic gate at the paper's 1 mm with the default scheme (about a minute on 2 cores; a
+#                  progress line every 10 s), recording MCAP + Rerun into runs/, its summary and time series into
+#                  runs/elastic_gate/, and exit at the end: about 4-5 minutes in all on a fresh clone.
+#                  A quick look: make run NODE_PARAMS="-p numerics.spacing:=0.002 -p solid.scheme:=gray2001"
 #   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT
-#   make test      same install, then the test suite
+#   make test      same install, then the test suite (about 15 minutes on a clean clone with 2 cores)
 #   make test-fast same install, then the suite without the tests marked slow (`-m "not slow"`: no validation
-#                  runs, long physics runs or long node runs; ~40 s on 2 cores with a warm Numba cache)
+#                  runs, long physics runs or long node runs): the everyday loop
+# Measured times, with their dates: docs/performance/BENCH.md, "A fresh clone".
 # Variables: VENV; for run: NODE_SCENE, NODE_PARAMS (extra `-p key:=value`); for headless: SCENE (scene name or
 # YAML file; empty = default scene), OUT, ARGS (extra CLI arguments).
 
