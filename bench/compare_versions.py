@@ -6,10 +6,12 @@ to the bit, and which is faster?
 REF is any git commit (e.g. HEAD~3). Its `sph_fsi_core` and `config/` are exported with `git archive` into a temporary
 directory as the package `ref_core`, so both versions import side by side. Both simulations are built from the same
 scene and overrides; `--steps` outer steps later their state (COMPARED) and every time-series row are compared
-(bitwise, or the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's 2-core VM a
-process can run at half speed for its whole life (docs/performance/BENCH.md), so code versions are compared only
-within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it; this
-checkout's is its own source-keyed one (sph_fsi_core/numerics/jit_cache.py).
+(bitwise, or the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's
+2-core VM a process can run at half speed for its whole life (docs/performance/BENCH.md), so code versions are
+compared only within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it;
+this checkout's is its own source-keyed one (sph_fsi_core/numerics/jit_cache.py). The solid's arrays are compared
+on its moving particles and its clamp's apart (a version may leave out a clamp's unreached particles); the speed is
+given per particle-step and per simulated second, which counts a particle left out as work saved.
 """
 import argparse
 import importlib
@@ -57,12 +59,19 @@ COMPARED = {"solid": ("pos", "vel", "rho", "stress", "pressure", "acc", "stress_
 
 
 def state(sim):
+    """COMPARED's arrays; the solid's on its moving particles, its clamp's apart (`solid.clamp.*`): a version that
+    leaves out a clamp's unreached particles (scenes/built.without_unreached_clamp) has another count of them."""
     out = {}
     for phase, names in COMPARED.items():
         obj = getattr(sim, phase)
         if obj is not None:
             for name in names:
-                out[f"{phase}.{name}"] = getattr(obj, name).copy()
+                values = getattr(obj, name)
+                if phase == "solid" and len(values):
+                    out[f"solid.{name}"] = values[obj.movable].copy()
+                    out[f"solid.clamp.{name}"] = values[~obj.movable].copy()
+                else:
+                    out[f"{phase}.{name}"] = values.copy()
     return out
 
 
@@ -107,6 +116,9 @@ def main(argv=None):
             print(f"compared arrays differ: only in {ref_name}: {sorted(set(a) - set(b))}; only in {new_name}: "
                   f"{sorted(set(b) - set(a))}")
         for key in sorted(set(a) & set(b)):
+            if a[key].shape != b[key].shape:
+                print(f"{key}: not compared, shapes {a[key].shape} and {b[key].shape}")
+                continue
             if np.array_equal(a[key], b[key], equal_nan=True):
                 print(f"{key}: the same to the bit")
             else:
@@ -118,15 +130,21 @@ def main(argv=None):
         if args.rounds == 0:
             return 0 if same else 1
         rates = {name: [] for name in versions}
+        simulated = {name: [] for name in versions}
         for _ in range(args.rounds):
             for name, sim in versions.items():
-                work, t0 = particle_steps(sim), time.perf_counter()
+                work, t0, time0 = particle_steps(sim), time.perf_counter(), sim.time
                 sim.step()
-                rates[name].append((particle_steps(sim) - work) / (time.perf_counter() - t0))
+                wall = time.perf_counter() - t0
+                rates[name].append((particle_steps(sim) - work) / wall)
+                simulated[name].append((sim.time - time0) / wall)
         medians = {name: float(np.median(r)) for name, r in rates.items()}
+        speeds = {name: float(np.median(r)) for name, r in simulated.items()}
         for name, r in medians.items():
-            print(f"{name}: {r / 1e6:.3f} M particle-steps/s (median of {args.rounds} outer steps)")
-        print(f"speed-up of this checkout over {ref_name}: {medians[new_name] / medians[ref_name]:.2f}x")
+            print(f"{name}: {r / 1e6:.3f} M particle-steps/s, {speeds[name]:.4g} simulated s per wall s (medians "
+                  f"of {args.rounds} outer steps)")
+        print(f"speed-up of this checkout over {ref_name}: {medians[new_name] / medians[ref_name]:.2f}x in "
+              f"particle-steps, {speeds[new_name] / speeds[ref_name]:.2f}x in simulated time")
     return 0 if same else 1
 
 

@@ -34,11 +34,11 @@ Per fluid step dt (simulation.py drives it):
    from the two stable steps (the paper's 200 is what its material gives), or coupling.substeps when set and
    stable.
 
-Surface particles and normals (the paper does not say how it finds them): from the particle distribution,
-g_a = -sum_b V_b grad_a W_ab over the solid's own particles (clamp included) vanishes inside the body and points
-out of it at a surface (|g| h = 0.59 at a flat face of a cubic lattice at h = 1.3 dp, 0.06 one layer in, 0
-deeper); a particle with |g_a| h > coupling.surface_threshold (0.4) is a surface particle, n_a = g_a / |g_a|. The set is found once at build (an
-elastic body keeps its surface particles); the normals are recomputed from the current positions before every
+Surface particles and normals (the paper does not say how it finds them): from the particle distribution, g_a = -sum_b
+V_b grad_a W_ab over the solid's own particles (clamp included) vanishes inside the body and points out of it at a
+surface (|g| h = 0.59 at a flat face of a cubic lattice at h = 1.3 dp, 0.06 one layer in, 0 deeper); a particle with
+|g_a| h > coupling.surface_threshold (0.4) is a surface particle, n_a = g_a / |g_a|. The set is found once at build
+(an elastic body keeps its surface particles); the normals are recomputed from the current positions before every
 push, so they turn with the body as it bends (no separate rotation to track).
 """
 import math
@@ -230,8 +230,7 @@ class Coupling:
     """
 
     def __init__(self, solid, fluid, walls, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
-                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None,
-                 rigid=None):
+                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         self.solid, self.fluid = solid, fluid
@@ -244,11 +243,6 @@ class Coupling:
         self.wall_mass = self.rho0 * self.volume * lattice_scale   # module docstring, item 1
         wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         wall_m = walls.mass if walls is not None else np.zeros(0)
-        # `rigid`: solid particles the fluid sees where they were built (a mirrored clamp's ghosts out of the body's
-        # reach: Simulation._rigid_clamp); the solid moves them as its clamp needs, the water meets the holder
-        self.rigid = np.asarray(rigid if rigid is not None else [], dtype=np.int64)
-        self.rigid_pos = solid.pos[self.rigid].copy()
-        self._seen = solid.pos.copy()
         self.boundary = WallState(pos=np.ascontiguousarray(np.concatenate([wall_pos, solid.pos])),
                                   mass=np.concatenate([wall_m, self.wall_mass]), rho0=self.rho0)
         self.solid_p = np.zeros(solid.count)
@@ -285,17 +279,9 @@ class Coupling:
     def surface_count(self):
         return int(self.surface.sum())
 
-    def seen_positions(self):
-        """The solid as the fluid sees it: where it is, its rigid particles where they were built."""
-        if not len(self.rigid):
-            return self.solid.pos
-        self._seen[:] = self.solid.pos
-        self._seen[self.rigid] = self.rigid_pos
-        return self._seen
-
     def before_fluid_step(self, solver):
         """Put the solid where it is into the fluid's boundary; rebuild the fluid's lists if their skin is used up."""
-        self.boundary.pos[self.offset:] = self.seen_positions()
+        self.boundary.pos[self.offset:] = self.solid.pos
         if solver.wall_neighbours.is_stale(self.fluid.pos, self.boundary.pos):
             solver.rebuild()
 
@@ -310,7 +296,7 @@ class Coupling:
         """The solid's external acceleration from the fluid step just taken (held over the sub-steps)."""
         s, f = self.solid, self.fluid
         if self.model == "seed":
-            pos = self.seen_positions()
+            pos = s.pos
             nb = self.fluid_neighbours
             nb.update(pos, f.pos)
             self.refresh_normals()
@@ -341,7 +327,7 @@ class Coupling:
         """'pressure' model: P_s and the forces on the solid particles (self.force, N) from the fluid's current P."""
         s, f = self.solid, self.fluid
         nb = self.fluid_neighbours
-        pos = self.seen_positions()
+        pos = s.pos
         nb.update(pos, f.pos)
         shepard_pressure(pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.solid_p)
         pressure_force_on_solid(pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass,
@@ -354,7 +340,7 @@ class Coupling:
         f, s = self.fluid, self.solid
         radius, skin, period, lo, hi = self._list_args
         nb = NeighbourList(radius, skin, period=period, box_lo=lo, box_hi=hi)
-        pos = self.seen_positions()
+        pos = s.pos
         nb.build(f.pos, pos)
         out = np.zeros((f.count, 3))
         pressure_force_on_fluid(f.pos, f.mass, f.pressure, nb.start, nb.index, pos, self.wall_mass, self.solid_p,

@@ -146,6 +146,8 @@ class RunLog:
             "scene": spec.name, "builder": spec.builder, "source": spec.source, "phases": list(sim.phases),
             "particles": {"solid": solid_count,
                           "solid_moving": sim.solid.moving_count if sim.solid is not None else 0,
+                          # a mirrored clamp's particles no moving one reaches: the water's walls, or gone
+                          **({"clamp_left_out": sim.unreached_clamp} if sim.unreached_clamp else {}),
                           **sim.particle_counts},
             "status": status,
             "end_time_s": end_time, "simulated_time_s": sim.time, "stable": diverged is None,
@@ -167,9 +169,7 @@ class RunLog:
             "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
             "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
                           "surface_particles": sim.coupling.surface_count,
-                          "last_substeps": sim.coupling.last_substeps,
-                          # a mirrored clamp's ghosts the water meets where they were built (coupling.Coupling)
-                          **({"rigid_clamp_particles": len(sim.coupling.rigid)} if len(sim.coupling.rigid) else {})}
+                          "last_substeps": sim.coupling.last_substeps}
                          if getattr(sim, "coupling", None) else None),
             "snapshots": snapshots, "machine": machine_info(),
             "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},

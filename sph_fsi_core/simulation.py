@@ -23,7 +23,7 @@ from .scenes import BUILDERS
 from .solid.solver import NO_EXTERNAL, NO_MIRROR, SolidSolver, artificial_stress_warning, cfl_warning
 from .numerics.jit_cache import start_parallel_runtime
 from .numerics.kernels import SUPPORT_RADIUS_IN_H
-from .scenes.built import check_layout, ghosts_beyond_reach
+from .scenes.built import check_layout, without_unreached_clamp
 from .scenes.tank import lattice_density_scale
 
 __all__ = ["Simulation", "Diverged"]
@@ -74,6 +74,13 @@ class Simulation:
         v = self.spec.values
         built = self.builder.build(v)
         check_layout(built, v["numerics.spacing"])
+        self.spacing = v["numerics.spacing"]
+        self.h = v["numerics.smoothing_ratio"] * self.spacing
+        self.unreached_clamp = 0   # the mirrored clamp's particles left out (scenes/built.without_unreached_clamp)
+        if built.solid is not None and v["solid.clamp"] == "mirrored" and built.clamp_mirror is not None:
+            built, self.unreached_clamp = without_unreached_clamp(
+                built, SUPPORT_RADIUS_IN_H * self.h + self.spacing, v.get("fluid.density", 0.0),
+                lattice_density_scale(v["numerics.smoothing_ratio"]))
         self.solid = built.solid
         self.fluid = built.fluid
         self.walls = built.walls
@@ -86,8 +93,6 @@ class Simulation:
         self.damping_rate = built.damping_rate
         self.fluid_damping_rate = built.fluid_damping_rate
         self.period = built.period
-        self.spacing = v["numerics.spacing"]
-        self.h = v["numerics.smoothing_ratio"] * self.spacing
         self.time = 0.0
         self.solid_steps = 0
         self.outer_steps = 0
@@ -158,7 +163,7 @@ class Simulation:
                                      substeps=v["coupling.substeps"], relaxation=v["coupling.relaxation"],
                                      surface_threshold=v["coupling.surface_threshold"],
                                      skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
-                                     box_hi=built.domain_hi, rigid=self._rigid_clamp(built))
+                                     box_hi=built.domain_hi)
             fluid_walls = self.coupling.boundary   # the solid is a moving wall of the fluid
         self.fluid_solver = FluidSolver(self.fluid, fluid_walls, self.h, self.period, built.domain_lo,
                                         built.domain_hi, v["numerics.neighbour_skin"] * self.h)
@@ -216,16 +221,6 @@ class Simulation:
             raise SceneError(f"solid.clamp = {clamp}: scene builder '{self.spec.builder}' has no plane clamp face "
                              f"to mirror the body across; allowed: fixed")
         return np.ascontiguousarray(built.clamp_mirror, dtype=np.int64)
-
-    def _rigid_clamp(self, built):
-        """The ghosts of a mirrored clamp that the body's sums never reach (d from the face with d + spacing / 2,
-        the distance to the body's first layer, past the kernel's support 2h, with a spacing of margin for the
-        root's strain): the fluid sees them where they were built, the rigid holder they stand for."""
-        mirror = self.solid_solver.clamp_mirror
-        if not len(mirror):
-            return None
-        return ghosts_beyond_reach(built.solid.pos, mirror,
-                                   SUPPORT_RADIUS_IN_H * self.h + 0.5 * self.spacing)
 
     def _fluid_settings(self, spec):
         """The fluid solver's settings from `spec`; SceneError if a forced fluid.time_step is above the stable limit."""

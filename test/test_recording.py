@@ -29,7 +29,7 @@ RERUN = str(Path(sys.prefix) / "bin" / "rerun")
 SMALL = ["--set", "numerics.spacing=0.002", "--set", "geometry.length=0.04"]
 END, INTERVAL = 0.01, 0.001
 FRAMES = 11                                  # t = 0, 0.001, ..., 0.01
-MOVING, CLAMP = 120, 24                      # the cantilever builder's counts at 2 mm spacing
+MOVING, CLAMP = 120, 18                      # the cantilever's at 2 mm: 3 of the clamp's 4 layers within reach
 NS = "/sph_fsi"
 TOPICS = {f"{NS}/particles": "sensor_msgs/msg/PointCloud2", f"{NS}/walls": "sensor_msgs/msg/PointCloud2",
           f"{NS}/tip_displacement": "geometry_msgs/msg/Vector3Stamped", f"{NS}/strain_energy": "std_msgs/msg/Float64",

@@ -1,5 +1,5 @@
 """What a builder returns: the particles of each phase the scene has (None for the others), probes, domain."""
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -64,16 +64,83 @@ def clamp_mirror_across(pos, movable, axis, face, spacing):
     return mirror
 
 
-def ghosts_beyond_reach(pos, clamp_mirror, reach):
-    """The ghosts (clamp_mirror >= 0) farther than `reach` from the clamp face (half the way to their image).
+def without_unreached_clamp(built, reach, water_density, lattice_scale):
+    """`built` without the mirrored clamp's particles that no moving particle comes within `reach` of: returns
+    (built, count left out).
 
-    A ghost moves as its image's reversed displacement, so a clamp taller than the kernel's reach moves far from the
-    face as the body does far from it: Antoci's gate hangs from 68.5 mm of clamp beside the water, whose top ghosts
-    mirror the free end. The body's sums never reach them; the water must see the rigid holder they stand for."""
-    mirror = np.asarray(clamp_mirror)
-    ghost = np.flatnonzero(mirror >= 0)
-    to_face = 0.5 * np.linalg.norm(pos[ghost] - pos[mirror[ghost]], axis=1)
-    return ghost[to_face > reach]
+    A mirrored clamp's particles carry no stress and move as their images (solid/stepper.py), so one that no moving
+    particle's kernel reaches changes nothing in the body, yet every solid pass steps it. Antoci's gate hangs from
+    68.5 mm of clamp (41 layers at 5/3 mm, 3 within the body's reach): 44 % of its solid particles. Those left out
+    become wall particles where they were built (the rigid holder they stand for, as the water saw them before),
+    with the mass the coupling gives a solid particle as the water's wall (coupling.py: the water's rest density
+    times the particle's volume and the lattice's scale); in a scene without water they are gone. Particles a probe
+    or a part follows stay. `reach`: the kernel's support 2h plus one spacing of margin for the root's strain (at the
+    face the body's first layer is dp / 2 from it, a ghost d from it: reached while d + dp / 2 < 2h).
+
+    The body's sums are the same, but the solid passes and the water's wall sums add in another order: the answers
+    move by round-off (docs/method.md, "Clamps")."""
+    from ..numerics.neighbours import NeighbourList
+    solid = built.solid
+    fixed = np.flatnonzero(~solid.movable)
+    moving = np.flatnonzero(solid.movable)
+    if not len(fixed) or not len(moving):
+        return built, 0
+    # distances across the periodic axes left out: never more than the true ones, so a particle left out is beyond
+    # reach (and a slab narrower than twice the reach needs no periodic list)
+    across = np.asarray(built.period) > 0.0
+    fixed_at, fixed_site = np.unique(np.where(across, 0.0, solid.pos[fixed]), axis=0, return_inverse=True)
+    moving_at = np.unique(np.where(across, 0.0, solid.pos[moving]), axis=0)
+    near = NeighbourList(reach, 0.0, box_lo=built.domain_lo, box_hi=built.domain_hi)
+    near.build(np.ascontiguousarray(fixed_at), np.ascontiguousarray(moving_at))
+    keep = np.ones(solid.count, dtype=np.bool_)
+    keep[fixed[(np.diff(near.start) == 0)[fixed_site.ravel()]]] = False
+    for probe in built.probes:
+        keep[_solid_indices(probe)] = True
+    for phase, indices in built.parts.values():
+        if phase == "solid":
+            keep[indices] = True
+    dropped = int(solid.count - keep.sum())
+    if not dropped:
+        return built, 0
+    new_index = np.cumsum(keep) - 1
+    new_index[~keep] = -1
+    kept = SolidState(pos=np.ascontiguousarray(solid.pos[keep]), vel=solid.vel[keep], rho=solid.rho[keep],
+                      stress=solid.stress[keep], mass=solid.mass[keep], movable=solid.movable[keep])
+    changes = {"solid": kept}
+    if built.clamp_mirror is not None:
+        mirror = built.clamp_mirror[keep]
+        changes["clamp_mirror"] = np.where(mirror >= 0, new_index[np.maximum(mirror, 0)], -1)
+    if built.solid_load is not None:
+        changes["solid_load"] = built.solid_load[keep]
+    if built.fluid is not None:
+        volume = solid.mass[~keep] / solid.rho[~keep]
+        holder = WallState(pos=np.ascontiguousarray(solid.pos[~keep]),
+                           mass=water_density * volume * lattice_scale, rho0=float(water_density))
+        changes["walls"] = holder if built.walls is None else WallState(
+            pos=np.concatenate([built.walls.pos, holder.pos]), mass=np.concatenate([built.walls.mass, holder.mass]),
+            rho0=built.walls.rho0)
+    changes["probes"] = [_renumbered(p, new_index) for p in built.probes]
+    changes["parts"] = {name: (phase, new_index[idx] if phase == "solid" else idx)
+                        for name, (phase, idx) in built.parts.items()}
+    return replace(built, **changes), dropped
+
+
+def _solid_indices(probe):
+    """The solid particles a probe follows (a built-in scene's group, a point probe, a force probe on a solid)."""
+    if getattr(probe, "kind", None) == "point":
+        return np.array([probe.index])
+    if probe.phase == "solid":
+        return np.asarray(probe.indices)
+    return np.zeros(0, dtype=np.int64)
+
+
+def _renumbered(probe, new_index):
+    """A probe with its solid particles' indices after some were left out (those it follows are kept)."""
+    if getattr(probe, "kind", None) == "point":
+        return replace(probe, index=int(new_index[probe.index]))
+    if probe.phase == "solid":
+        return replace(probe, indices=new_index[probe.indices])
+    return probe
 
 
 def check_layout(built, spacing):
