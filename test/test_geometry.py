@@ -153,6 +153,7 @@ REFUSED = [
                                                                                 "you mean parts.box.size"),
     ({"name": "box", "role": "wall", "shape": "box"}, "parts.box.size: missing"),
     ({"name": "box", "role": "walls", "shape": "box"}, "parts.box.role = 'walls': not a known choice"),
+    ({"name": "box", "role": [1.0, 2.0], "shape": "box"}, r"parts.box.role = \[1.0, 2.0\]: not a known choice"),
     ({"name": "dot", "role": "wall", "shape": "sphere", "radius": 0.001, "position": [0.2, 0.05, 0.1]},
      "parts.dot: holds no lattice site"),
     ({"name": "box", "role": "wall", "shape": "box", "size": [0.05, 0.05, 0.05], "position": [0.2, 0.05, 0.05],
@@ -344,29 +345,27 @@ def test_any_part_list_builds_or_is_refused_by_name(tmp_path):
 
 # ---- the built-in scenes' answers from geometry scenes ----------------------------------------------------------
 
-def _run(spec):
-    from sph_fsi_core.run import run_scene
-    rows = []
-    summary = run_scene(spec, on_sample=lambda sim, row: rows.append(row))
-    return summary, {k: np.array([r[k] for r in rows]) for k in rows[0]}
-
-
 @pytest.mark.slow
-def test_the_cantilever_from_a_box_and_from_an_stl_swings_at_the_built_in_cantilevers_frequency():
-    """2.25 periods of the paper's beam (the validation ladder's record): the frequency of the free end's z motion
-    from the STL and from the built-in scene within 0.1 % of each other (the same particles; the probe is one
-    particle of the free end where the built-in scene's is the mean of its face). The box builds the STL's arrays
-    exactly (test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever), so it runs alike."""
-    from sph_fsi_core.validation.oscillation import measure_frequency
-    common = ["scene.end_time=0.128", "output.snapshot_interval=0"]
-    builtin, series = _run(load_scene("cantilever", common))
-    reference = builtin["frequency_hz"]
-    for name in ("cantilever_stl.yaml",):
-        summary, series = _run(load_scene(str(EXAMPLES / name), common))
-        frequency = measure_frequency(series["time"], series["tip_dz"]).frequency
-        assert frequency == pytest.approx(reference, rel=1e-3), name
-        assert summary["judges"]["frequency"]["measured"] == pytest.approx(frequency, rel=1e-12)
-        assert summary["error"] == pytest.approx(abs(frequency / 17.58 - 1.0), rel=1e-9)
+def test_the_cantilever_from_an_stl_moves_as_the_built_in_cantilever():
+    """The STL beam holds the built-in cantilever's particles in another order (the box builds the STL's arrays
+    exactly: test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever). Stepped from the same
+    first mode for 5 ms (about 450 solid steps), every particle stays with its built-in twin within 1e-6 of the
+    largest displacement: the same motion, so the same frequency as the built-in beam's (validated:
+    docs/validation/cantilever_shapes). Not to the bit: the passes add in another order."""
+    from sph_fsi_core.simulation import Simulation
+    common = ["scene.end_time=0.005", "output.snapshot_interval=0", "output.timeseries_interval=2.5e-4"]
+    builtin = Simulation(load_scene("cantilever", common))
+    stl = Simulation(load_scene(str(EXAMPLES / "cantilever_stl.yaml"), common))
+    at = {k: i for i, k in enumerate(map(tuple, np.round(stl.solid.pos / 5e-4).astype(np.int64)))}
+    order = np.array([at[k] for k in map(tuple, np.round(builtin.solid.pos / 5e-4).astype(np.int64))])
+    start = builtin.solid.pos.copy()
+    while builtin.time < 0.005 - 1e-12:
+        builtin.step()
+        stl.step()
+    assert stl.time == builtin.time and stl.solid_steps == builtin.solid_steps > 300
+    moved = np.abs(builtin.solid.pos - start).max()
+    assert moved > 2e-5                              # the free end at 0.01 m/s
+    assert np.abs(stl.solid.pos[order] - builtin.solid.pos).max() < 1e-6 * moved
 
 
 @pytest.mark.slow

@@ -177,7 +177,7 @@ def list_params(flat):
 def phases_of(flat):
     """The phases a scene of these parts has: water -> fluid, wall and gate -> walls, solid -> solid; coupling where
     there are both a solid and water."""
-    roles = {flat.get(f"parts.{name}.role") for name in list_entries(flat, "parts")}
+    roles = {_choice(flat, f"parts.{name}.role", ROLES) for name in list_entries(flat, "parts")}
     phases = []
     if "solid" in roles:
         phases.append("solid")
