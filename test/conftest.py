@@ -3,9 +3,11 @@ time, --dist loadfile) end together instead of one waiting on a long file handed
 tests over ~10 s on one thread (coarse validation runs, long physics runs, node tests that run long simulations),
 which `make test-fast` leaves out (`-m "not slow"`) and `make test` runs."""
 
-# the files that take more than a minute on one thread (pytest --durations), longest first
-LONG_FILES = ("validation/test_cantilever_quick.py", "test_artificial_stress.py", "validation/test_stability_ci.py",
-              "test_recording.py", "test_gradient_integration.py", "node/test_node.py")
+# the files that take about a minute or more on one thread (pytest --durations), longest first
+LONG_FILES = ("test_artificial_stress.py", "test_implicit_pressure.py", "validation/test_stability_ci.py",
+              "test_pair_blocks.py", "test_fluid.py", "validation/test_cantilever_quick.py",
+              "validation/test_solid_static_quick.py", "validation/test_hydrostatic_plate_quick.py",
+              "test_gradient_integration.py", "node/test_node.py", "test_runner.py")
 
 
 def _rank(item):

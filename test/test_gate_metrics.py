@@ -54,3 +54,52 @@ def test_the_load_against_the_level_behind_the_gate():
     out = evaluate(series, values)
     assert out["water_level_at_x_peak_m"] == pytest.approx(level, rel=1e-12)
     assert out["water_load_over_hydrostatic_at_x_peak"] == pytest.approx(0.8, rel=1e-12)
+
+
+def test_the_water_levels_of_antocis_gate_read_its_column_at_rest():
+    """scenes/antoci_gate.py's level probes at t = 0: the column's height (whole layers of its 0.14 m) at the back
+    wall and behind the gate, within a quarter spacing (the surface where the water stops filling half a kernel)."""
+    from sph_fsi_core.scenes import gate
+    from sph_fsi_core.simulation import Simulation
+    spec = load_scene("antoci_gate", ["numerics.spacing=0.0025", "solid.scheme=gray2001"])
+    readings = Simulation(spec).probe_readings()
+    surface = gate.water_surface_z(spec.values)
+    for name in ("level_back", "level_gate"):
+        kind, values = readings[name]
+        assert kind == "water_height"
+        assert values["height"] == pytest.approx(surface, abs=0.25 * 0.0025), name
+    assert readings["level_back"][1]["surface"][0] == pytest.approx(-(0.005 + 0.1 - 0.01))    # the water on -x
+    assert readings["level_gate"][1]["surface"][0] == pytest.approx(-(0.005 + 0.01))
+
+
+def test_the_stiffness_study_scales_the_peaks_time_as_a_gate_alone_would(tmp_path):
+    """The study's table (validation/cases/antoci_stiffness.py) on stored runs of known curves: each peak and its
+    time read back, and the published material's time moved by sqrt(12 MPa / E) for the softer gates."""
+    import csv
+    import json
+    from sph_fsi_core.validation.cases import antoci_stiffness
+    rungs = antoci_stiffness.rungs()
+    summaries = {}
+    t = np.arange(0.0, 0.3 + 1e-12, 0.002)
+    for k, r in enumerate(rungs):
+        e = r.overrides.get("solid.young_modulus", 12.0e6)
+        when, peak = 0.110 + 0.01 * k, 0.035 + 0.002 * k
+        folder = tmp_path / "runs" / r.case / r.label
+        folder.mkdir(parents=True)
+        with (folder / "timeseries.csv").open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time", "tip_dx", "level_back", "level_gate"])
+            for ti in t:
+                w.writerow([ti, peak - 2.0 * (ti - when) ** 2, 0.14 - 0.1 * ti, 0.13 - 0.2 * ti])
+        summaries[r.key] = {"settings": {"solid.young_modulus": e}, "wall_time_s": 1.0,
+                            "geometry_effective": {"gate_free_length_m": 0.07875}}
+        (folder / "summary.json").write_text(json.dumps(summaries[r.key]))
+    lines = antoci_stiffness.table(tmp_path, rungs, summaries)
+    rows = [ln.split(" | ") for ln in lines if ln.startswith("| E")]
+    assert [row[0].lstrip("| ") for row in rows] == [r.label for r in rungs]
+    assert [float(row[3]) for row in rows] == pytest.approx([35.0, 37.0, 39.0, 41.0])
+    assert [float(row[4]) for row in rows] == pytest.approx([0.110, 0.120, 0.130, 0.140])
+    scaled = [float(row[5]) for row in rows]
+    assert scaled == pytest.approx([0.110, 0.110 * (12 / 8.4) ** 0.5, 0.110 * 2 ** 0.5, 0.110], abs=1e-3)
+    level_gate = [float(row[7]) for row in rows]
+    assert level_gate == pytest.approx([1e3 * (0.13 - 0.2 * w) for w in (0.110, 0.120, 0.130, 0.140)], abs=0.05)

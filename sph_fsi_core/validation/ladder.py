@@ -81,9 +81,9 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
     """`sph-fsi validate`: run the cases' rungs (`missing`: only those without a summary.json in out_dir yet),
     write the report, and return 0, or 1 if a rung did not finish stably (or, with `quick`, is above its bound)."""
     cases = tuple(c for name in cases for c in CASE_GROUPS.get(name, (name,)))
-    rungs = [r for r in all_rungs() if (not cases or r.case in cases) and (r.quick or not quick)]
+    rungs = [r for r in all_rungs(studies=bool(cases)) if (not cases or r.case in cases) and (r.quick or not quick)]
     if not rungs:
-        known = sorted({r.case for r in all_rungs()})
+        known = sorted({r.case for r in all_rungs(studies=True)})
         print(f"sph-fsi validate: no such case {list(cases)}; allowed: {', '.join(known)}", file=sys.stderr)
         return 2
     if not report_only:
@@ -94,7 +94,7 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
     from .report import write_report
     # The report covers the cases asked for (all of them by default), so a fluid-only report does not list the
     # cantilever's rungs as "not run".
-    reported = [r for r in all_rungs() if not cases or r.case in cases]
+    reported = [r for r in all_rungs(studies=bool(cases)) if not cases or r.case in cases]
     summaries = load_summaries(out_dir, reported)
     write_report(out_dir, reported, summaries)
     failed = []

@@ -22,6 +22,12 @@ def read_reference_csv(name):
     return rows
 
 
+def read_reference_table(name):
+    """Rows of a reference CSV as dicts of strings, skipping '#' comment lines (tables of names and notes)."""
+    lines = [ln for ln in (DATA_DIR / name).read_text().splitlines() if not ln.startswith("#")]
+    return list(csv.DictReader(io.StringIO("\n".join(lines))))
+
+
 @lru_cache(maxsize=None)
 def clamped_free_mode_kl(mode=1):
     """Root k L of cos(kL) cosh(kL) = -1, eq. (14) (first mode: 1.87510...), by Newton from the asymptote."""

@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ...scenes.elastic_gate import PAPER_GATE_WIDTH_M
+from ..references import read_reference_table
 from ..report_tools import save_panels, series_rows
 from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE, PAPER_SPAN
@@ -124,7 +125,7 @@ def table(out_dir, rungs, summaries):
                   "10 ms (the motion's peak without a ringing on it; runs from before 2026-12-03 have none).", "",
                   "| run | coupling, solid | dp [mm] | x peak [mm] | at [s] | x peak smoothed [mm] | x peak error | "
                   "x RMS / peak | z peak [mm] | at [s] | z peak error | z RMS / peak | wall [s] |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|", *antoci]
+                  "|---|---|---|---|---|---|---|---|---|---|---|---|---|", *antoci, *antoci_peers()]
     if paper:
         lines += ["", "### The paper's elastic gate (Satake et al. Figs. 6-8)", "",
                   "dx peak: the free end's largest x displacement (negative: towards the dry side); spring-back: "
@@ -135,6 +136,19 @@ def table(out_dir, rungs, summaries):
                   "strain energy peak, 36 mm gate [mJ] | "
                   "at [s] | fall | checks passed | wall [s] |",
                   "|---|---|---|---|---|---|---|---|---|---|---|", *paper]
+    return lines
+
+
+def antoci_peers():
+    """Published and public numerical results on Antoci's gate (reference_data/antoci2007_numerical_peaks.csv, from
+    ../shared/reference: maxima of digitised curves), as lines of the report beside ours."""
+    lines = ["", "Beside ours, the published and public results on the same gate (reference_data/"
+             "antoci2007_numerical_peaks.csv: the maxima of digitised curves; the papers' resolutions and some "
+             "materials unknown):", "",
+             "| result | method | resolution | x peak [mm] | at [s] | z peak [mm] |", "|---|---|---|---|---|---|"]
+    for row in read_reference_table("antoci2007_numerical_peaks.csv"):
+        lines.append(f"| {row['result']} | {row['method']} | {row['resolution']} | {row['max_dx_mm']} | "
+                     f"{row['t_max_dx_s']} | {row['max_dy_mm']} |")
     return lines
 
 
