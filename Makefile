@@ -6,7 +6,7 @@
 #                  runs/elastic_gate/, and exit at the end: about 4-5 minutes in all on a fresh clone.
 #                  A quick look: make run NODE_PARAMS="-p numerics.spacing:=0.002 -p solid.scheme:=gray2001"
 #   make headless  the same install, then `sph-fsi run` (no ROS) on SCENE into OUT
-#   make test      same install, then the test suite (about 15 minutes on a clean clone with 2 cores)
+#   make test      same install, then the test suite (about 12 minutes on a clean clone with 2 cores)
 #   make test-fast same install, then the suite without the tests marked slow (`-m "not slow"`: no validation
 #                  runs, long physics runs or long node runs): the everyday loop
 # Measured times, with their dates: docs/performance/BENCH.md, "A fresh clone".
