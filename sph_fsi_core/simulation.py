@@ -175,7 +175,7 @@ class Simulation:
 
         A column built on the lattice has no compression and so no pressure: released at once it falls freely
         until it is compressed to the density tolerance, and its load on walls and solid overshoots for tens of
-        milliseconds (docs/validation/OPEN.md, 1.3). An experiment's water at rest is already at hydrostatic
+        milliseconds (docs/method.md, fluid, "The start"). An experiment's water at rest is already at hydrostatic
         pressure. So before t = 0 the fluid steps alone for `duration` (the solid held where it was built, the
         scene's release plates in place), its velocity relaxed as dv/dt = -c v with c = SETTLE_RELAXATION /
         duration; then velocities are set to zero and the clock starts. Returns what the phase did."""

@@ -1,5 +1,5 @@
 """fluid.settle_time: the water settles at rest behind the scene's release plates before t = 0 and starts at
-hydrostatic pressure (docs/validation/OPEN.md, 1.3), against rho g H; the plates are gone at t = 0."""
+hydrostatic pressure (docs/method.md, "The start"), against rho g H; the plates are gone at t = 0."""
 import numpy as np
 import pytest
 

@@ -5,11 +5,11 @@ Column: L along x (from the tank's upstream wall at x = 0) by H along z, on the 
 (the far wall 1.01 m from the gate); a periodic slab of `span_layers` particle layers across y (a thin slab of the
 experiment's 600 mm wide tank, i.e. 2D; `periodic_y: false` closes it with side walls).
 
-Release (`geometry.release`): `lifted` (the default), the gate (a wall `wall_layers` thick at the column's face,
-as high as the walls) moving up at `geometry.gate_speed` (the experiment's median 4.53 m/s) from t = 0, the gate's
-first motion, until its foot is a column height plus two smoothing lengths above the floor; or `instant`, the gate gone at t = 0 (the
-water released at once, as Martin & Moyce's reduction assumes). With fluid.settle_time (default here 0.3 s, about
-three of the column's breathing periods) the water first settles behind the gate to hydrostatic pressure
+Release (`geometry.release`): `lifted` (the default), the gate (a wall `wall_layers` thick at the column's face, as
+high as the walls) moving up at `geometry.gate_speed` (the experiment's median 4.53 m/s) from t = 0, the gate's first
+motion, until its foot is a column height plus two smoothing lengths above the floor; or `instant`, the gate gone at t
+= 0 (the water released at once, as Martin & Moyce's reduction assumes). With fluid.settle_time (default here 0.3 s,
+about three of the column's breathing periods) the water first settles behind the gate to hydrostatic pressure
 (simulation.py), as the experiment's water was at rest behind its gate.
 
 Judged (evaluate) on Z = 1 + x/H, x the front's distance from the gate (the foremost particle's x plus dp/2 less
@@ -57,7 +57,7 @@ GEOMETRY = [
           low=0.0, low_inclusive=False, high=1000.0),
 ]
 
-# the experiment's procedure: the water at rest behind the gate (settled: docs/validation/OPEN.md, 1.3), the gate
+# the experiment's procedure: the water at rest behind the gate (settled: docs/method.md, "The start"), the gate
 # lifted at the measured speed
 DEFAULTS = {"scene.end_time": 0.4, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": COLUMN / 60,
             "fluid.settle_time": 0.3, "output.timeseries_interval": 2.5e-3, "output.snapshot_interval": 0.02}
