@@ -141,3 +141,26 @@ def test_the_compressed_column_carries_its_weight_from_the_start():
     assert -runs["compressed"][5][1] > 0.5 * weight
     assert -runs["lattice"][5][1] < 0.1 * weight
     assert runs["compressed"][10][0] < 0.1 * runs["lattice"][10][0]
+
+
+def test_the_peers_table_reads_ours_against_beam_theory_as_the_peers_do():
+    """validation/cases/hydrostatic_plate.peers_table: the benchmark plate's rungs (span 1 m, 0.05 m thick) beside
+    the peers, each as 1 - w / w_beam (positive: less deflection), the FE value too; other plates left out."""
+    from sph_fsi_core.validation.cases import hydrostatic_plate as case
+    from sph_fsi_core.validation.rung import Rung
+    settings = {"geometry.span": 1.0, "geometry.thickness": 0.05, "numerics.spacing": 0.0125,
+                "solid.scheme": "quadratic_gradient", "coupling.model": "pressure"}
+    bench = Rung("hydrostatic_plate", "bench", "hydrostatic_plate", {})
+    small = Rung("hydrostatic_plate", "small", "hydrostatic_plate", {})
+    summaries = {
+        bench.key: {"settings": settings, "beam_theory_midspan_deflection_m": -1.0e-4,
+                    "midspan_deflection_m": -1.05e-4, "reference_midspan_deflection_m": -1.034e-4},
+        small.key: {"settings": {**settings, "geometry.span": 0.2, "geometry.thickness": 0.02},
+                    "beam_theory_midspan_deflection_m": -1.0e-4, "midspan_deflection_m": -1.2e-4,
+                    "reference_midspan_deflection_m": -1.1e-4}}
+    lines = case.peers_table([bench, small], summaries)
+    ours = [ln for ln in lines if ln.startswith("| this code")]
+    assert ours == ["| this code, bench | quadratic_gradient, pressure coupling | 4 | -5.0 % | -3.4 % |"]
+    peers = [ln for ln in lines if ln.startswith("| DualSPHysics")]
+    assert [ln.split(" | ")[3] for ln in peers] == ["+14.0 %", "+8.5 %", "+1.1 %"]
+    assert case.peers_table([small], summaries) == []

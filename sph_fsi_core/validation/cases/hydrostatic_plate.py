@@ -1,6 +1,7 @@
 """Water at rest on a clamped plate (scenes/hydrostatic_plate.py, Fourey et al. 2017; judged by the scene's evaluate
 on the settled mid-span deflection against plane-strain FE and the water's load against its weight), with the plate
 alone under the exact load and the water alone on a rigid floor beside it; one table."""
+from ..references import read_reference_table
 from ..report_tools import fmt
 from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
@@ -161,4 +162,37 @@ def table(out_dir, rungs, summaries):
             "| run | t/dp | E [GPa] | deflection [um] | FE [um] | error | loaded alone vs FE | coupled vs loaded | "
             "swing [um] | thirds [um] | water on span / weight | thirds [N] | on whole solid | particles (fluid + "
             "solid) | steps (solid + fluid) | wall [s] |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *lines]
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *lines, *peers_table(rungs, summaries)]
+
+
+# the benchmark's plate (Fourey et al. 2017): span and thickness, m (scenes/hydrostatic_plate.py's defaults)
+BENCHMARK_PLATE = (1.0, 0.05)
+
+
+def peers_table(rungs, summaries):
+    """Ours beside the peers on the benchmark's plate (reference_data/hydrostatic_plate_peers.csv): the mid-span
+    deflection against beam theory, positive for less deflection, the peers' convention; the plate's own FE value
+    so read is the exact target (beam theory leaves out the shear). Only the rungs of the benchmark's shape (the
+    scaled plate's E is linear in the deflection, not in the ratio)."""
+    ours = []
+    for r in rungs:
+        s = summaries.get(r.key)
+        if (r.case != "hydrostatic_plate" or s is None or s.get("beam_theory_midspan_deflection_m") is None
+                or (s["settings"]["geometry.span"], s["settings"]["geometry.thickness"]) != BENCHMARK_PLATE):
+            continue
+        beam = s["beam_theory_midspan_deflection_m"]
+        ours.append(f"| this code, {r.label} | {s['settings']['solid.scheme']}, "
+                    f"{s['settings']['coupling.model']} coupling | "
+                    f"{s['settings']['geometry.thickness'] / s['settings']['numerics.spacing']:.0f} | "
+                    f"{100 * (1.0 - s['midspan_deflection_m'] / beam):+.1f} % | "
+                    f"{100 * (1.0 - s['reference_midspan_deflection_m'] / beam):+.1f} % |")
+    if not ours:
+        return []
+    peers = [f"| {p['result']} | {p['method']} | {p['particles_through']} | "
+             f"{float(p['error_vs_beam_percent']):+.1f} % | - |"
+             for p in read_reference_table("hydrostatic_plate_peers.csv")]
+    return ["", "Beside the peers on the benchmark's plate (reference_data/hydrostatic_plate_peers.csv): the mid-span "
+            "deflection against beam theory, 0.0026 q L^4 / D, positive for less deflection (the peers' "
+            "convention); the plane-strain FE value, the exact target, read the same way.", "",
+            "| result | method | particles through | against beam theory | FE against beam theory |",
+            "|---|---|---|---|---|", *ours, *peers]
