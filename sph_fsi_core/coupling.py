@@ -223,6 +223,12 @@ def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, so
         force[a, 2] = fz
 
 
+def solid_wall_mass(mass, rho, water_density, lattice_scale):
+    """The mass a solid particle counts with in the water's sums (module docstring, item 1): the water's rest density
+    times the particle's volume m / rho, times the lattice's scale (scenes/tank.py)."""
+    return water_density * (mass / rho) * lattice_scale
+
+
 class Coupling:
     """The coupling's state: boundary arrays (walls + solid) the fluid sums over, surface set and normals, the push.
 
@@ -240,7 +246,7 @@ class Coupling:
         self.configure(model, gamma, substeps, relaxation)
         self.offset = walls.count if walls is not None else 0
         self.volume = solid.mass / solid.rho                       # initial volumes m / rho0_s
-        self.wall_mass = self.rho0 * self.volume * lattice_scale   # module docstring, item 1
+        self.wall_mass = solid_wall_mass(solid.mass, solid.rho, self.rho0, lattice_scale)
         wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         wall_m = walls.mass if walls is not None else np.zeros(0)
         self.boundary = WallState(pos=np.ascontiguousarray(np.concatenate([wall_pos, solid.pos])),

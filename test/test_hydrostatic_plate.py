@@ -164,3 +164,13 @@ def test_the_peers_table_reads_ours_against_beam_theory_as_the_peers_do():
     peers = [ln for ln in lines if ln.startswith("| DualSPHysics")]
     assert [ln.split(" | ")[3] for ln in peers] == ["+14.0 %", "+8.5 %", "+1.1 %"]
     assert case.peers_table([small], summaries) == []
+    # the peers' numbers as the shared reference's comments state them (where the reference is at hand)
+    from test_scene import SHARED_REFERENCE
+    source = SHARED_REFERENCE / "hydrostatic_plate_fourey2017.csv"
+    if source.is_file():
+        text = source.read_text()
+        assert "about 14 / 8.5 / 1.1 % at dp = 0.01 / 0.005 / 0.0025 m (5 / 10 / 20 through)" in text
+        assert "+15.5 % (5 through), +10.5 % (11), +10.2 % (13)" in text
+        assert "about 57 % larger" in text
+        assert [p[3] for p in case.PEERS] == [14.0, 8.5, 1.1, 15.5, 10.5, 10.2, -57.0]
+        assert [p[2] for p in case.PEERS] == [5, 10, 20, 5, 11, 13, 4]

@@ -72,13 +72,14 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
     particle's kernel reaches changes nothing in the body, yet every solid pass steps it. Antoci's gate hangs from
     68.5 mm of clamp (41 layers at 5/3 mm, 3 within the body's reach): 44 % of its solid particles. Those left out
     become wall particles where they were built (the rigid holder they stand for, as the water saw them before),
-    with the mass the coupling gives a solid particle as the water's wall (coupling.py: the water's rest density
-    times the particle's volume and the lattice's scale); in a scene without water they are gone. Particles a probe
-    or a part follows stay. `reach`: the kernel's support 2h plus one spacing of margin for the root's strain (at the
-    face the body's first layer is dp / 2 from it, a ghost d from it: reached while d + dp / 2 < 2h).
+    with the mass the coupling gives a solid particle as the water's wall (coupling.solid_wall_mass); in a scene
+    without water they are gone. Particles a probe or a part follows stay. `reach`: the kernel's support 2h plus one
+    spacing of margin for the root's strain (at the face the body's first layer is dp / 2 from it, a ghost d from
+    it: reached while d + dp / 2 < 2h).
 
     The body's sums are the same, but the solid passes and the water's wall sums add in another order: the answers
-    move by round-off (docs/method.md, "Clamps")."""
+    move by round-off (docs/method.md, "The clamp")."""
+    from ..coupling import solid_wall_mass
     from ..numerics.neighbours import NeighbourList
     solid = built.solid
     fixed = np.flatnonzero(~solid.movable)
@@ -113,9 +114,9 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
     if built.solid_load is not None:
         changes["solid_load"] = built.solid_load[keep]
     if built.fluid is not None:
-        volume = solid.mass[~keep] / solid.rho[~keep]
         holder = WallState(pos=np.ascontiguousarray(solid.pos[~keep]),
-                           mass=water_density * volume * lattice_scale, rho0=float(water_density))
+                           mass=solid_wall_mass(solid.mass[~keep], solid.rho[~keep], water_density, lattice_scale),
+                           rho0=float(water_density))
         changes["walls"] = holder if built.walls is None else WallState(
             pos=np.concatenate([built.walls.pos, holder.pos]), mass=np.concatenate([built.walls.mass, holder.mass]),
             rho0=built.walls.rho0)

@@ -13,19 +13,16 @@ from pathlib import Path
 DATA_DIR = Path(__file__).resolve().parent / "reference_data"
 
 
-def read_reference_csv(name):
-    """Rows of a reference CSV as dicts of floats (empty cells: None), skipping '#' comment lines."""
-    lines = [ln for ln in (DATA_DIR / name).read_text().splitlines() if not ln.startswith("#")]
-    rows = []
-    for row in csv.DictReader(io.StringIO("\n".join(lines))):
-        rows.append({k: (float(v) if v not in ("", None) else None) for k, v in row.items()})
-    return rows
-
-
 def read_reference_table(name):
     """Rows of a reference CSV as dicts of strings, skipping '#' comment lines (tables of names and notes)."""
     lines = [ln for ln in (DATA_DIR / name).read_text().splitlines() if not ln.startswith("#")]
     return list(csv.DictReader(io.StringIO("\n".join(lines))))
+
+
+def read_reference_csv(name):
+    """Rows of a reference CSV as dicts of floats (empty cells: None), skipping '#' comment lines."""
+    return [{k: (float(v) if v not in ("", None) else None) for k, v in row.items()}
+            for row in read_reference_table(name)]
 
 
 @lru_cache(maxsize=None)

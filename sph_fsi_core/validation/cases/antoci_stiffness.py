@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..references import antoci_gate_tip
-from ..report_tools import series_rows
+from ..report_tools import save_panels, series_rows
 from ..rung import Rung
 
 CASE = "antoci_stiffness"
@@ -99,10 +99,5 @@ def plot(out_dir, rungs, summaries, plt):
                                 "level 10 mm from the back wall [mm]")):
         ax.set_xlabel("t [s]")
         ax.set_ylabel(label)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
     fig.suptitle(f"Antoci's gate at {SPACING * 1e3:g} mm: stiffness against load (a study)")
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "antoci_stiffness.png", dpi=120)
-    plt.close(fig)
-    return ["antoci_stiffness.png"]
+    return [save_panels(plt, fig, axes, Path(out_dir) / "antoci_stiffness.png", legend_size=7)]

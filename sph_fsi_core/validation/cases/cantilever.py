@@ -128,12 +128,8 @@ def plot(out_dir, rungs, summaries, plt):
         ax.set_xlabel("beam length L [mm]")
         ax.set_ylabel("first bending frequency [Hz]")
         ax.set_title("Cantilever frequency against length (cf. the paper's Fig. 5)")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(Path(out_dir) / "cantilever_frequency_vs_length.png", dpi=120)
-        plt.close(fig)
-        made.append("cantilever_frequency_vs_length.png")
+        made.append(save_panels(plt, fig, [ax], Path(out_dir) / "cantilever_frequency_vs_length.png",
+                                legend_size=8))
     # The long run's free-end motion and energy, like the paper's Fig. 4.
     long_run = [r for r in rungs if r.case == "cantilever" and r.key in summaries]
     if long_run:

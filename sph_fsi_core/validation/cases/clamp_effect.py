@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..report_tools import grid_table
+from ..report_tools import grid_table, save_panels
 from ..rung import Rung
 
 
@@ -87,12 +87,7 @@ def plot(out_dir, rungs, summaries, plt):
     ax.set_ylabel("deflection error against FE [%]")
     ax.set_title("The default scheme, 4 particles through: error over the strip's length")
     ax.set_xlim(left=0.0)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7)
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "clamp_effect.png", dpi=120)
-    plt.close(fig)
-    return ["clamp_effect.png"]
+    return [save_panels(plt, fig, [ax], Path(out_dir) / "clamp_effect.png", legend_size=7)]
 
 
 def table(out_dir, rungs, summaries):

@@ -192,7 +192,4 @@ def _lobovsky_plot(plt, out_dir, runs):
         a.set_ylim(0.95, 2.8)
     axes[2].set_xlim(0.9, 1.65)   # the speed's window, T in [1, 1.6]
     axes[2].set_ylim(1.75, 2.75)
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "lobovsky_front.png", dpi=120)
-    plt.close(fig)
-    return "lobovsky_front.png"
+    return save_panels(plt, fig, [], Path(out_dir) / "lobovsky_front.png")

@@ -204,10 +204,7 @@ def _free_end_plots(out_dir, rungs, summaries, plt):
         axes[0].set_title("Antoci et al. 2007's rubber gate: free end, simulation against experiment")
         axes[1].set_xlabel("t [s]")
         axes[0].legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-        fig.tight_layout()
-        fig.savefig(Path(out_dir) / "antoci_gate_tip.png", dpi=120)
-        plt.close(fig)
-        made.append("antoci_gate_tip.png")
+        made.append(save_panels(plt, fig, [], Path(out_dir) / "antoci_gate_tip.png"))
     runs = [r for r in rungs if r.scene == "elastic_gate" and r.key in summaries]
     if runs:
         fig, axes = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..report_tools import series_rows
+from ..report_tools import save_panels, series_rows
 from ..rung import Rung
 
 CASE = "spheric2"
@@ -97,10 +97,5 @@ def plot(out_dir, rungs, summaries, plt):
         ax.set_xlim(*window)
         ax.set_xlabel("t [s]")
         ax.set_ylabel(label)
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
     fig.suptitle("SPHERIC test 2: 3D dam break onto a box")
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "spheric2.png", dpi=120)
-    plt.close(fig)
-    return ["spheric2.png"]
+    return [save_panels(plt, fig, axes.flat, Path(out_dir) / "spheric2.png", legend_size=7)]
