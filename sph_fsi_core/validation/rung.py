@@ -16,6 +16,7 @@ class Rung:
     note: str = ""
     snapshot_interval: float = 0.0   # particle snapshots (0: none), for the frame plots
     counterpart: str = ""       # "case/label" of the same run made another way, reported side by side
+    resolution: str = ""        # how fine, in the case's own terms ("4 through", "a/dp 20"): the report's column
 
     @property
     def key(self):

@@ -1,7 +1,7 @@
 """The solid alone under a prescribed load, settled, against plane-strain FE (scenes/clamped_plate.py): a short
 plate (L/t = 10, 4 particles through) so CI can afford it. The full ladder is `sph-fsi validate solid_static`
-(docs/validation/solid_static/REPORT.md); the errors it measures are an open problem (docs/validation/OPEN.md)."""
-import pytest
+(docs/validation/studies/solid_static/REPORT.md); the errors it measures are an open problem
+(docs/validation/OPEN.md).""" import pytest
 
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
@@ -21,13 +21,14 @@ def test_fixed_clamp_settles_softer_than_fe_within_its_recorded_bound():
     w, fe = s["midspan_deflection_m"], s["reference_midspan_deflection_m"]
     assert w < 0 and fe < 0                                        # down, with the load
     assert s["midspan_deflection_swing_m"] < 1e-3 * abs(w)         # settled: static to 0.1 %
-    # quadratic_gradient with the fixed clamp: +24 % at L/t = 10, +12 % at L/t = 20 (docs/validation/solid_static)
+    # quadratic_gradient with the fixed clamp: +24 % at L/t = 10, +12 % at L/t = 20
+    # (docs/validation/studies/solid_static)
     assert 0.0 < s["error_signed"] < 0.30
 
 
 def test_scene_default_mirrored_clamp_settles_close_to_fe():
     """The scene's clamp (mirrored: the clamp face where FE's is): +5.0 % at L/t = 10, 4 particles through; +2.6 % at
-    L/t = 20 (docs/validation/solid_static)."""
+    L/t = 20 (docs/validation/studies/solid_static)."""
     s = run()
     assert s["settings"]["solid.clamp"] == "mirrored"
     assert s["midspan_deflection_swing_m"] < 1e-3 * abs(s["midspan_deflection_m"])
@@ -46,10 +47,10 @@ def test_deflection_is_linear_in_the_load():
 def test_cantilever_strip_has_one_clamp_and_settles_close_to_fe():
     """geometry.supports = clamped_free (case clamp_effect's quick rung, L/t = 5, 4 particles through): clamp layers
     behind x = 0 only, the probe on the free end's last column, settled within +1.9 % of plane-strain FE at the
-    same point (docs/validation/clamp_effect)."""
+    same point (docs/validation/studies/clamp_effect)."""
     from sph_fsi_core.scenes import clamped_plate
     from sph_fsi_core.validation.cases import all_rungs
-    rung = next(r for r in all_rungs() if r.key == "clamp_effect/clamped_free_L_over_t_5")
+    rung = next(r for r in all_rungs(studies=True) if r.key == "clamp_effect/clamped_free_L_over_t_5")
     spec = load_scene("clamped_plate", list(rung.overrides.items()) + [("scene.end_time", rung.end_time)])
     built = clamped_plate.build(spec.values)
     pos, movable = built.solid.pos, built.solid.movable

@@ -33,7 +33,7 @@ def test_identical_rungs_run_once_and_both_get_the_outputs(tmp_path, monkeypatch
     found = validation.load_summaries(tmp_path, [a, b, c])
     assert set(found) == {"ladder/H4", "length/L40", "length/L60"}
     # the real table: the sweep's L = 40 mm is the ladder's H/dp = 4
-    rungs = {r.key: r for r in validation.all_rungs()}
+    rungs = {r.key: r for r in validation.all_rungs(studies=True)}
     assert validation.same_run(rungs["cantilever_length/L40"]) == validation.same_run(
         rungs["cantilever_ladder/H_over_dp_4"])
 
@@ -59,7 +59,7 @@ def test_report_names_its_command_and_separates_load_transfer_from_bending(tmp_p
     """The static gate's table: coupled against loaded (the load transfer), loaded against FE (the bending), from
     the rungs' summaries; the header gives the command that made the page, with its cases and --out."""
     from sph_fsi_core.validation.report import write_report
-    rungs = [r for r in validation.all_rungs() if r.case == "gate_static"]
+    rungs = [r for r in validation.all_rungs(studies=True) if r.case == "gate_static"]
     fe = 3.7e-3
     summaries = {
         "gate_static/coupled_dp1.25mm": _summary(tip_deflection_m=1.10 * fe, tip_deflection_swing_m=1e-4,
@@ -83,7 +83,7 @@ def test_report_names_its_command_and_separates_load_transfer_from_bending(tmp_p
 def test_missing_runs_only_the_rungs_without_a_summary(tmp_path, monkeypatch):
     """`sph-fsi validate --missing` finishes a stopped ladder: rungs with a summary.json are not run again."""
     calls = fake_runs(monkeypatch, _summary(error=0.01))
-    rungs = [r for r in validation.all_rungs() if r.case == "gate_static"]
+    rungs = [r for r in validation.all_rungs(studies=True) if r.case == "gate_static"]
     done = validation.rung_dir(tmp_path, rungs[0])
     done.mkdir(parents=True)
     (done / "summary.json").write_text(json.dumps(_summary(error=0.02)))

@@ -6,28 +6,38 @@
 
 table and plot see every reported rung and pick their own (the gates' by scene, across cases). A run is judged by
 its scene's evaluate (scenes/*.py), which run_scene calls; running the rungs is ladder.py's, the page report.py's.
+
+Two kinds: the default suite (CASES: today's default scheme on every case, `sph-fsi validate`, the page
+docs/validation/REPORT.md) and the studies (STUDIES: other schemes and options, run only when named, each its own
+page under docs/validation/studies/).
 """
-from . import (antoci_stiffness, cantilever, cantilever_shapes, clamp_effect, fluid, gate, gate_default, gate_span,
-               gate_static, hydrostatic_plate, large_deflection, solid_pressure, solid_static, spheric2,
-               volumetric_gradient)
+from . import (antoci_stiffness, cantilever, cantilever_shapes, clamp_effect, default_coupled, default_fluid,
+               default_solid, fluid, gate, gate_default, gate_span, gate_static, hydrostatic_plate, large_deflection,
+               solid_pressure, solid_static, spheric2, volumetric_gradient)
 
-# The order of the rungs, as the report's headline table lists them.
-CASES = (cantilever, cantilever_shapes, large_deflection, solid_static, clamp_effect, hydrostatic_plate, fluid, gate,
-         gate_default, gate_static, solid_pressure, volumetric_gradient, gate_span, spheric2)
+# The default suite, in the order of the report's headline table: the solid alone, the water alone, then both.
+CASES = (default_solid, default_fluid, spheric2, default_coupled)
 
-# The order of the report's sections and plots: as CASES, but for gate_static's table, which has come before the
-# fluid's (the pages under docs/validation/ keep their layout).
-SECTIONS = (cantilever, cantilever_shapes, large_deflection, solid_static, clamp_effect, hydrostatic_plate, gate_static,
-            fluid, gate, gate_default, solid_pressure, volumetric_gradient, gate_span, spheric2, antoci_stiffness)
+# Studies of other schemes and options, and of the default's sensitivity: run and reported only when named
+# (`sph-fsi validate gate_span --out docs/validation/studies/gate_span`).
+STUDIES = (cantilever, cantilever_shapes, large_deflection, solid_static, clamp_effect, hydrostatic_plate, fluid, gate,
+           gate_default, gate_static, solid_pressure, volumetric_gradient, gate_span, antoci_stiffness)
 
-# Studies of the default's sensitivity (not validation cases): run and reported only when named
-# (`sph-fsi validate antoci_stiffness --out docs/validation/studies/antoci_stiffness`).
-STUDIES = (antoci_stiffness,)
+# The order of the pages' sections and plots (each module's table and plot pick their own rungs); among the studies,
+# gate_static's table comes before the fluid's (the committed pages keep their layout).
+SECTIONS = (default_solid, default_fluid, spheric2, default_coupled, cantilever, cantilever_shapes, large_deflection,
+            solid_static, clamp_effect, hydrostatic_plate, gate_static, fluid, gate, gate_default, solid_pressure,
+            volumetric_gradient, gate_span, antoci_stiffness)
 
 # Names that select several cases at once.
 CASE_GROUPS = {"gate": ("antoci_gate", "elastic_gate")}
 
 
 def all_rungs(studies=False):
-    """Every case's rungs, and with `studies` the studies' too."""
+    """The default suite's rungs, and with `studies` the studies' too."""
     return [r for case in CASES + (STUDIES if studies else ()) for r in case.rungs()]
+
+
+def default_case_names():
+    """The default suite's case names, in order."""
+    return list(dict.fromkeys(r.case for r in all_rungs()))

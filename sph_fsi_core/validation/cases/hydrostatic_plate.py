@@ -180,15 +180,15 @@ PEERS = (("DualSPHysics (O'Connor & Rogers 2021)", "TL-SPH", 5, 14.0),
          ("SPHinXsys (nu 0.34; no plate gravity)", "TL-SPH", 4, -57.0))
 
 
-def peers_table(rungs, summaries):
+def peers_table(rungs, summaries, case="hydrostatic_plate"):
     """Ours beside the peers on the benchmark's plate (PEERS): the mid-span deflection against beam theory, positive
     for less deflection, the peers' convention; the plate's own FE value so read is the exact target (beam theory
     leaves out the shear). Only the rungs of the benchmark's shape (the scaled plate's E is linear in the deflection,
-    not in the ratio)."""
+    not in the ratio). `case`: the case whose rungs are ours."""
     ours = []
     for r in rungs:
         s = summaries.get(r.key)
-        if (r.case != "hydrostatic_plate" or s is None or s.get("beam_theory_midspan_deflection_m") is None
+        if (r.case != case or s is None or s.get("beam_theory_midspan_deflection_m") is None
                 or (s["settings"]["geometry.span"], s["settings"]["geometry.thickness"]) != BENCHMARK_PLATE):
             continue
         beam = s["beam_theory_midspan_deflection_m"]

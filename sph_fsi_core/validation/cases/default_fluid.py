@@ -1,0 +1,42 @@
+"""The water alone, against exact answers and experiments: the default suite's fluid cases (SPHERIC test 2, the 3D
+one, has its own module, spheric2.py).
+
+    tank          water at rest in a tank, H / dp 20 and 40: the floor pressure against rho g H
+    martin_moyce  Martin & Moyce's collapsing column, a / dp 10, 20, 30: the surge front's RMS relative difference
+                  from the measured one over T <= 3 (reference_data/martin_moyce_1952_a57mm.csv)
+    lobovsky      Lobovsky et al. 2014's 600 mm column, H / dp 30, 60, 90, the scene's defaults (the gate lifted at
+                  the measured speed, the water settled behind it): the front against the measured median, T >= 1
+
+Each rung runs the scene's defaults but for the spacing (and the tank's step at its finer rung, as the fluid's step
+must shrink with dp there: docs/method.md).
+"""
+from ..rung import Rung
+
+SECTION = "## The water alone"
+TANK_DEPTH = 0.1                 # m (config/hydrostatic.yaml)
+COLUMN_WIDTH = 0.05715           # m, a (config/dam_break.yaml)
+LOBOVSKY_HEIGHT = 0.6            # m, H (config/lobovsky_dam_break.yaml)
+
+MEASURES = {
+    "tank": ("floor pressure, settled", "rho g H (exact)"),
+    "martin_moyce": ("surge front, RMS over T <= 3", "Martin & Moyce 1952 "
+                                                     "(reference_data/martin_moyce_1952_a57mm.csv)"),
+    "lobovsky": ("surge front, RMS over T >= 1", "Lobovsky et al. 2014, median of 100 repeats "
+                                                 "(reference_data/lobovsky2014_front_H600.csv)"),
+}
+
+
+def rungs():
+    out = [Rung("tank", f"H_over_dp_{round(TANK_DEPTH / dp)}", "hydrostatic", {"numerics.spacing": dp, **extra},
+                end_time=0.6, resolution=f"H/dp {round(TANK_DEPTH / dp)}", quick=not extra, bound=0.02,
+                note=f"dp = {dp * 1e3:g} mm; floor pressure against rho g H")
+           for dp, extra in ((0.005, {}), (0.0025, {"fluid.time_step": 0.0025}))]
+    out += [Rung("martin_moyce", f"a_over_dp_{n}", "dam_break", {"numerics.spacing": COLUMN_WIDTH / n},
+                 end_time=0.17, resolution=f"a/dp {n}", quick=n == 10, bound=0.15,
+                 note=f"a / dp = {n}; front against Martin & Moyce")
+            for n in (10, 20, 30)]
+    out += [Rung("lobovsky", f"H_over_dp_{n}", "lobovsky_dam_break", {"numerics.spacing": LOBOVSKY_HEIGHT / n},
+                 end_time=0.4, resolution=f"H/dp {n}", quick=n == 30, bound=0.05,
+                 note=f"H / dp = {n}; front against Lobovsky et al.")
+            for n in (30, 60, 90)]
+    return out
