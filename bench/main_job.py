@@ -5,10 +5,10 @@ another commit in the same process, and this checkout's whole run.
 
 Both versions build the scene `elastic_gate` as each one's defaults have it (the reference commit's own solid scheme:
 at 9a465fb Gray's, the paper's; here the default scheme; at 9a465fb across the paper's 36 mm, here since 2026-12-05
-the narrowest periodic slab, which gives the same answer: docs/validation/gate_span), step to t = 2 ms (compiling
-and the first load), then alternate one outer step (1 ms) each until `--window` of simulated time is done, timing
-each step: the ratio of simulated seconds per wall second (not particle-steps: the versions take steps of different
-sizes, and since 2026-12-05 different numbers of particles for the same answer). The gate's first
+the narrowest periodic slab, which gives the same answer: docs/validation/studies/gate_span), step to t = 2 ms
+(compiling and the first load), then alternate one outer step (1 ms) each until `--window` of simulated time is done,
+timing each step: the ratio of simulated seconds per wall second (not particle-steps: the versions take steps of
+different sizes, and since 2026-12-05 different numbers of particles for the same answer). The gate's first
 20 ms are its slow start (the water pushes, the gate has barely moved): the fit's refreshes and the neighbour
 rebuilds grow as it swings, so `--full` also times this checkout's whole run to 0.14 s.
 On this 2-core VM a process can run at half speed for its whole life (docs/performance/BENCH.md): only the ratio in

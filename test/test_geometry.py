@@ -351,7 +351,7 @@ def test_the_cantilever_from_an_stl_moves_as_the_built_in_cantilever():
     exactly: test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever). Stepped from the same
     first mode for 5 ms (about 450 solid steps), every particle stays with its built-in twin within 1e-6 of the
     largest displacement: the same motion, so the same frequency as the built-in beam's (validated:
-    docs/validation/cantilever_shapes). Not to the bit: the passes add in another order."""
+    docs/validation/studies/cantilever_shapes). Not to the bit: the passes add in another order."""
     from sph_fsi_core.simulation import Simulation
     common = ["scene.end_time=0.005", "output.snapshot_interval=0", "output.timeseries_interval=2.5e-4"]
     builtin = Simulation(load_scene("cantilever", common))

@@ -3,7 +3,7 @@
 Checked three ways: the exact answers of linear elasticity that both operators must reproduce (rigid motions store
 no energy; a uniform strain stores exactly 1/2 V eps : C : eps, surface particles included), and against the
 project's own time stepping: the quadratic fit's plain sum on the paper's beam assembled here has the frequency its
-time-stepped run measured (docs/validation/REPORT.md, cantilever_plain_ladder/H_over_dp_4: 16.672 Hz).
+time-stepped run measured (docs/validation/studies/schemes/REPORT.md, cantilever_plain_ladder/H_over_dp_4: 16.672 Hz).
 """
 import numpy as np
 import pytest
@@ -76,7 +76,8 @@ def test_total_lagrangian_beam_at_four_through_is_far_too_soft():
 
 def test_assembled_default_scheme_has_its_time_stepped_frequency():
     """quadratic_gradient (the strain-gradient term, the mirrored clamp) on the cantilever_shapes beam nu = 0.3,
-    L/H = 10: time-stepped -0.785 % against 3D FE (docs/validation/cantilever_shapes, its kept run's summary)."""
+    L/H = 10: time-stepped -0.785 % against 3D FE (docs/validation/studies/cantilever_shapes, its kept run's
+    summary)."""
     r = linear_modes.cantilever_frequency(["geometry.length=0.04", "solid.poisson_ratio=0.3"], weights="quadratic_fit",
                                           nodal_integration="gradient", clamp="mirrored")
     assert r["spurious_modes_below"] == 0
@@ -92,8 +93,8 @@ def test_default_scheme_step_is_inside_its_linear_limit():
 
 def test_assembled_plate_has_its_time_stepped_static_answer():
     """The default scheme's plate alone at 4 through: time-stepped +2.64 % against plane-strain FE
-    (docs/validation/solid_static/REPORT.md, quadratic_gradient_mirrored_t_over_dp_4); the volumetric part of the
-    strain-gradient energy takes it within 1 % (docs/validation/linear_modes)."""
+    (docs/validation/studies/solid_static/REPORT.md, quadratic_gradient_mirrored_t_over_dp_4); the volumetric part of
+    the strain-gradient energy takes it within 1 % (docs/validation/linear_modes)."""
     r = linear_modes.clamped_plate_deflection(["numerics.spacing=0.0125"])
     assert 100 * r["error"] == pytest.approx(2.64, abs=0.1)
     full = linear_modes.clamped_plate_deflection(["numerics.spacing=0.0125"], volumetric_gradient=True)

@@ -243,3 +243,16 @@ def test_each_check_names_a_planted_wrong_name(check, old, new, named):
     assert old in text, f"the plant's anchor {old!r} is gone from README.md: update PLANTS"
     wrong = check(text.replace(old, new, 1))
     assert any(named in line for line in wrong), wrong
+
+
+def test_every_error_in_the_answers_table_is_the_reports():
+    """Issue 50: every number in the README comes from the report. Each value of the error column of "What the
+    default's answers are worth" appears in docs/validation/REPORT.md with its unit (% or mm), signed as there."""
+    report = (REPO / "docs" / "validation" / "REPORT.md").read_text()
+    rows = table(section(README.read_text(), "What the default's answers are worth"), "case")
+    assert len(rows) >= 12
+    for row in rows:
+        values = re.findall(r"[-+]?\d+\.\d+", row[2])
+        assert values, row
+        for value in values:
+            assert f"{value} %" in report or f"{value} mm" in report, (row[0], value)

@@ -8,8 +8,8 @@ mirrored, the default scheme's) is the body's odd image across the clamp face, 4
 particles have no image in the body, so they would stand at rest beside the root's top and bottom faces, inside the
 kernel's reach of the body across the corner, holding the root's most strained layers; that stiffness is not the
 clamp's (a clamped 3D continuum's top face is free up to the clamp's edge) and made the default scheme's beam
-deflect 2.2 points more against 3D FE at L/H = 5 and 1.2 points at L/H = 10 (docs/validation/clamp_effect), so the
-mirrored clamp builds no margin. Initial velocity: eqs. (12)-(14) along z.
+deflect 2.2 points more against 3D FE at L/H = 5 and 1.2 points at L/H = 10 (docs/validation/studies/clamp_effect), so
+the mirrored clamp builds no margin. Initial velocity: eqs. (12)-(14) along z.
 """
 import math
 

@@ -10,7 +10,7 @@ an end wall, 3 layers thick: the count is in summary.json).
 Across y the scene simulates the narrowest periodic slab (`geometry.span` 0: 6 layers at h = 1.3 dp, 9,960
 particles at 1 mm) rather than the paper's 36 mm (59,760): nothing varies across y (the 36 mm gate's free end moves
 sideways by 1e-10 m), and the two give the same free end to 4-5 digits through the peak and agree after it as
-closely as the same run on one thread and on two (docs/validation/gate_span), at a sixth of the particle-steps.
+closely as the same run on one thread and on two (docs/validation/studies/gate_span), at a sixth of the particle-steps.
 `geometry.span: 0.036` builds the paper's particle counts. Totals over the slab (strain energy, the water's force on
 the gate) scale with its span; `strain_energy_peak_paper_width_j` gives the peak for the paper's 36 mm gate (Fig. 8).
 

@@ -73,6 +73,9 @@ def load_summaries(out_dir, rungs):
         p = rung_dir(out_dir, r) / "summary.json"
         if p.is_file():
             found[r.key] = json.loads(p.read_text())
+            kept = p.parent / "bits_unchanged.json"     # a run kept from an older commit (report._commit_cell)
+            if kept.is_file():
+                found[r.key]["bits_unchanged"] = json.loads(kept.read_text())
     return found
 
 
@@ -91,12 +94,12 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
         print(f"sph-fsi validate: {len(todo)} run(s) into {out_dir}/runs/"
               + (f" ({len(rungs) - len(todo)} already there)" if missing else ""), flush=True)
         run_rungs(todo, out_dir, workers, scheduler)
-    from .report import write_report
+    from .report import write_default_report, write_report
     # The report covers the cases asked for (all of them by default), so a fluid-only report does not list the
     # cantilever's rungs as "not run".
     reported = [r for r in all_rungs(studies=bool(cases)) if not cases or r.case in cases]
     summaries = load_summaries(out_dir, reported)
-    write_report(out_dir, reported, summaries)
+    (write_report if cases else write_default_report)(out_dir, reported, summaries)
     failed = []
     for r in rungs:
         s = summaries.get(r.key)

@@ -16,21 +16,21 @@ from .linear_modes import (cantilever_frequency, clamped_plate_deflection, defau
                            gate_loaded_deflection, implicit_step_iterations)
 
 # The quadratic_plain beams time-stepped (solid.scheme = quadratic_plain: the fixed clamp with its 5-layer margin,
-# explicit pressure, 2.25 periods), Hz: docs/validation/REPORT.md, rows cantilever_plain_ladder/H_over_dp_{4,6,8}
-# (L = 40 mm) and cantilever_plain_length/L{60,80,100,120} (dp = 1 mm)
+# explicit pressure, 2.25 periods), Hz: docs/validation/studies/schemes/REPORT.md, rows
+# cantilever_plain_ladder/H_over_dp_{4,6,8} (L = 40 mm) and cantilever_plain_length/L{60,80,100,120} (dp = 1 mm)
 TIME_STEPPED_QUADRATIC_PLAIN = {(4, 40): 16.672, (6, 40): 17.057, (8, 40): 17.208, (4, 60): 7.451, (4, 80): 4.201,
                                 (4, 100): 2.691, (4, 120): 1.870}
 
 # The default scheme's static answers time-stepped (explicit pressure, the mirrored clamp), error against
-# plane-strain FE, %: docs/validation/solid_static/REPORT.md (quadratic_gradient_mirrored_t_over_dp_{4,6,8,10}) and
-# docs/validation/gate_static/REPORT.md (loaded_gradient_mirrored_dp{1.67,1.25}mm)
+# plane-strain FE, %: docs/validation/studies/solid_static/REPORT.md (quadratic_gradient_mirrored_t_over_dp_{4,6,8,10})
+# and docs/validation/studies/gate_static/REPORT.md (loaded_gradient_mirrored_dp{1.67,1.25}mm)
 TIME_STEPPED_PLATE = {4: 2.64, 6: 1.23, 8: 0.73, 10: 0.50}
 TIME_STEPPED_GATE = {(0.005 / 3, "5/3"): 1.69, (0.00125, "1.25"): 1.09}
 
 # Ganzenmueller's hourglass coefficient: TrixiParticles' PenaltyForceGanzenmueller default
 HOURGLASS_ALPHA = 0.1
 
-SHAPES_RUNS = Path("docs/validation/cantilever_shapes/runs/cantilever_shapes")
+SHAPES_RUNS = Path("docs/validation/studies/cantilever_shapes/runs/cantilever_shapes")
 
 
 def _row(overrides, **kw):
@@ -60,7 +60,7 @@ def report():
              "validation/references.py (the project's extrapolated meshes).", "",
              "## Cross-check: the quadratic fit's plain sum against its time-stepped runs", "",
              "The fixed clamp with its 5-layer margin, as `solid.scheme: quadratic_plain` ran "
-             "(docs/validation/REPORT.md, cantilever_plain_ladder and cantilever_plain_length).", "",
+             "(docs/validation/studies/schemes/REPORT.md, cantilever_plain_ladder and cantilever_plain_length).", "",
              "| H/dp | L [mm] | assembled [Hz] | time-stepped [Hz] | difference | vs 3D FE (assembled) | wall [s] |",
              "|---|---|---|---|---|---|---|"]
     for (through, length), stepped in TIME_STEPPED_QUADRATIC_PLAIN.items():
@@ -72,10 +72,10 @@ def report():
     lines += ["", "## Total-Lagrangian SPH on the paper's beam (L = 40 mm, 4 x 6 mm, nu = 0.49)", "",
               "The kernel gradient corrected on the reference configuration (O'Connor & Rogers 2021; TrixiParticles, "
               "SPHinXsys, DualSPHysics flexstruc), the variationally consistent force, the clamp's particles fixed "
-              "behind the root only (no margin: the mirrored clamp's lesson, docs/validation/clamp_effect); with and "
-              f"without Ganzenmueller's hourglass penalty (alpha = {HOURGLASS_ALPHA:g}, TrixiParticles' default). "
-              "Beside it the quadratic fit's plain sum on the same beam and clamp. Spurious: modes below the first "
-              "bending mode.", "",
+              "behind the root only (no margin: the mirrored clamp's lesson, docs/validation/studies/clamp_effect); "
+              f"with and without Ganzenmueller's hourglass penalty (alpha = {HOURGLASS_ALPHA:g}, TrixiParticles' "
+              "default). Beside it the quadratic fit's plain sum on the same beam and clamp. Spurious: modes below "
+              "the first bending mode.", "",
               "| H/dp | TL-SPH | spurious | TL-SPH, hourglass | spurious | quadratic fit, plain sum | wall [s] |",
               "|---|---|---|---|---|---|---|"]
     for through in (4, 6, 8):
@@ -93,7 +93,7 @@ def report():
               f"{HOURGLASS_ALPHA:g}), and the default scheme (`quadratic_gradient`: the quadratic fit with the "
               "strain-gradient integration, the mirrored clamp) assembled here and time-stepped (case "
               "cantilever_shapes, its kept runs: explicit pressure, 2.25 periods; its frequency is the implicit "
-              "pressure's to 0.01 %, docs/validation/solid_pressure).", "",
+              "pressure's to 0.01 %, docs/validation/studies/solid_pressure).", "",
               "The last column: the default scheme with the strain-gradient term's volumetric part too (the energy "
               "of each cell's strain gradient in full, not only its deviator; not the scheme's: docs/method.md, "
               "\"Strain-gradient nodal integration\").", "",
@@ -117,8 +117,8 @@ def report():
               "solved: clamped_plate (the hydrostatic plate's plate under its water's exact pressure and its own "
               "weight, a periodic slab) and antoci_gate_loaded (Antoci's gate under its water's exact pressure at "
               "g = 1 m/s^2), each against its plane-strain FE; the time-stepped runs beside (docs/validation/"
-              "solid_static, gate_static). The time-stepped gate deflects 5 % of its length, where this answer is "
-              "linear.", "",
+              "studies/solid_static, gate_static). The time-stepped gate deflects 5 % of its length, where this "
+              "answer is linear.", "",
               "| case | spacing | default scheme, assembled | time-stepped | with the volumetric gradient, assembled | "
               "wall [s] |", "|---|---|---|---|---|---|"]
     for through, stepped in TIME_STEPPED_PLATE.items():

@@ -2,18 +2,17 @@
 headline table of every rung and the error against wall time; each case's own tables and plots come from its module
 (validation/cases/)."""
 import datetime
+import re
+import textwrap
 from pathlib import Path
 
 from . import cases
 from .report_tools import fmt
 
 
-def _row(rung, s):
-    """A rung's row of the headline table: its cost, what it measured against what, the error."""
-    if s is None:
-        return f"| {rung.case} | {rung.label} | not run | | | | | | | | | |"
-    d = s["diverged"]
-    stable = "yes" if s["stable"] else f"no: {d['check']} at {d['time']:.4g} s"
+def measured_against(s):
+    """(measured, reference, error) of a run's summary as the report's cells: what the scene's evaluate measured,
+    against what, and the error (signed where the sign says soft or stiff)."""
     measured = ref = "-"
     if s.get("frequency_hz") is not None:
         measured = f"{s['frequency_hz']:.3f} ± {s['frequency_uncertainty_hz']:.3f} Hz"
@@ -43,11 +42,29 @@ def _row(rung, s):
     elif s.get("tip_dx_peak_m") is not None:
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
+    elif s.get("judges"):
+        measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
+                             if j.get("error") is not None)
+        ref = "measured"
     err = f"{100 * s['error']:.2f} %" if s.get("error") is not None else "-"
     if s.get("error_signed") is not None:
         err = f"{100 * s['error_signed']:+.2f} %"   # the sign says soft (+, deflects more) or stiff
     if s.get("frequency_hz") is not None and s.get("reference_hz") and s.get("error") is not None:
         err = f"{100 * (s['frequency_hz'] / s['reference_hz'] - 1.0):+.2f} %"   # the sign says stiff or soft
+    return measured, ref, err
+
+
+def _stable(s):
+    d = s["diverged"]
+    return "yes" if s["stable"] else f"no: {d['check']} at {d['time']:.4g} s"
+
+
+def _row(rung, s):
+    """A rung's row of a study's headline table: its cost, what it measured against what, the error."""
+    if s is None:
+        return f"| {rung.case} | {rung.label} | not run | | | | | | | | | |"
+    stable = _stable(s)
+    measured, ref, err = measured_against(s)
     m = s.get("machine", {})
     moving = s["particles"].get("solid", 0) + s["particles"].get("fluid", 0)
     steps = s["solid_steps"] + s.get("fluid_steps", 0)
@@ -133,3 +150,173 @@ def write_report(out_dir, rungs, summaries):
     return out / "REPORT.md"
 
 
+def _wrapped(lines, width=120):
+    """Prose lines and list items wrapped at `width` (docs keep their lines short); tables and headings as they are."""
+    out = []
+    for line in lines:
+        if len(line) <= width or line.startswith(("|", "#", "!")):
+            out.append(line)
+        elif line.startswith("- "):
+            out += textwrap.wrap(line, width, subsequent_indent="  ", break_long_words=False,
+                                 break_on_hyphens=False)
+        else:
+            out += textwrap.wrap(line, width, break_long_words=False, break_on_hyphens=False)
+    return out
+
+
+# ---- the default suite's page (docs/validation/REPORT.md) ---------------------------------------------------------
+
+def _commit_cell(s):
+    """The commit a run ran on; for a run kept from an older commit, the commit its bits were checked against
+    (bits_unchanged.json beside its summary, written when bench.compare_versions showed them the same)."""
+    commit = s.get("machine", {}).get("commit", "-")
+    kept = s.get("bits_unchanged")
+    if kept:
+        return f"{commit}; same bits at {kept['same_bits_at']} ({kept['checked']})"
+    return commit
+
+
+def _case_error(rung, s, summaries):
+    """(error as a number, its cell) of a rung of the default suite: the scene's own, or the case's derived one."""
+    for case in cases.CASES:
+        derived = getattr(case, "derived_error", None)
+        found = derived(rung, summaries) if derived else None
+        if found is not None:
+            return found[0], f"{100 * found[0]:.2f} % (against {found[1]})"
+    _, _, cell = measured_against(s)
+    return s.get("error"), cell
+
+
+def _measures(case_name):
+    for case in cases.CASES:
+        if case_name in getattr(case, "MEASURES", {}):
+            return case.MEASURES[case_name]
+    return None
+
+
+def _headline(rungs, summaries):
+    """The default suite's table: a row per rung, the case's measure and reference on its first row."""
+    lines = ["| case | measured | against (source) | run | dp [mm] | particles | steps | wall [s] | threads | "
+             "value | reference value | error | commit |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    shown = set()
+    for r in rungs:
+        s = summaries.get(r.key)
+        first = r.case not in shown
+        shown.add(r.case)
+        what, against = (_measures(r.case) or ((s or {}).get("error_metric", "-"), "")) if first else ("", "")
+        name = f"**{r.case}**" if first else ""
+        run = r.resolution or r.label
+        if s is None:
+            lines.append(f"| {name} | {what} | {against} | {run} | not run yet | | | | | | | | |")
+            continue
+        measured, ref, _ = measured_against(s)
+        _, err = _case_error(r, s, summaries)
+        if not s["stable"]:
+            err = f"{err}; unstable: {_stable(s)}"
+        moving = s["particles"].get("solid", 0) + s["particles"].get("fluid", 0)
+        steps = s["solid_steps"] + s.get("fluid_steps", 0)
+        m = s.get("machine", {})
+        lines.append(f"| {name} | {what} | {against} | {run} | {s['settings']['numerics.spacing'] * 1e3:.3g} | "
+                     f"{moving} | {steps} | {s['wall_time_s']:.0f} | {m.get('numba_threads', '-')} | {measured} | "
+                     f"{ref} | {err} | {_commit_cell(s)} |")
+    return lines
+
+
+def _error_figure(out_dir, rungs, summaries, plt):
+    """Error against wall time, log-log, a line per case's ladder (points unjoined where the rungs are shapes or
+    loads, not resolutions: a module's NOT_LADDERS)."""
+    unjoined = {name for case in cases.CASES for name in getattr(case, "NOT_LADDERS", ())}
+    fig, ax = plt.subplots(figsize=(7.5, 5.5))
+    markers = "osD^v<>phX*P"
+    names = list(dict.fromkeys(r.case for r in rungs))
+    for i, name in enumerate(names):
+        pts = []
+        for r in rungs:
+            s = summaries.get(r.key)
+            if r.case != name or s is None:
+                continue
+            err, _ = _case_error(r, s, summaries)
+            if err:
+                pts.append((s["wall_time_s"], err, r.resolution or r.label))
+        if pts:
+            x, y, labels = zip(*pts)
+            ax.loglog(x, y, marker=markers[i % len(markers)], linestyle="none" if name in unjoined else "-",
+                      label=name, color=plt.cm.tab20(i % 20))
+            for xi, yi, lab in pts:
+                ax.annotate(lab, (xi, yi), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("wall time [s] (threads in the table)")
+    ax.set_ylabel("|error| against the reference")
+    ax.set_title("The default scheme: error against run time, a line per case")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    fig.savefig(Path(out_dir) / "error_vs_walltime.png", dpi=120)
+    plt.close(fig)
+    return "error_vs_walltime.png"
+
+
+# Study pages that no one module makes: what each shows
+_OTHER_STUDIES = {"schemes": "the solid schemes and coupling models compared, as run up to 2026-12-01 (Gray's "
+                             "scheme, the quadratic fit without the strain gradient, the explicit pressure).",
+                  "lobovsky": "Lobovsky's dam break by release, start, density tolerance and step (the fluid "
+                              "study's rungs of that case)."}
+
+
+def _study_summary(name):
+    """The first sentence of the study module's docstring (cases/NAME.py), or _OTHER_STUDIES's line."""
+    for case in cases.STUDIES:
+        if case.__name__.rsplit(".", 1)[-1] == name and case.__doc__:
+            text = " ".join(case.__doc__.split())
+            return re.split(r"(?<! al)\. ", text)[0].rstrip(".") + "."
+    return _OTHER_STUDIES.get(name, "")
+
+
+def _studies(out):
+    """Links to the study pages under out/studies/, each with what it shows."""
+    return [f"- [{page.parent.name}](studies/{page.parent.name}/REPORT.md): {_study_summary(page.parent.name)}"
+            for page in sorted((out / "studies").glob("*/REPORT.md"))]
+
+
+def write_default_report(out_dir, rungs, summaries):
+    """docs/validation/REPORT.md: the default suite's headline table, its error-against-wall-time figure, the peers
+    beside ours, and the links to the studies."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    figure = _error_figure(out, rungs, summaries, plt)
+    command = made_by(out, rungs)
+    machine = next((s["machine"] for s in summaries.values()), {})
+    lines = [
+        "# Validation: the default scheme's error against run time", "",
+        f"Made by `{command}`; rebuilt from the stored runs by `{command} --report-only`. Every row is one headless "
+        "run of today's default (every scene's `solid.scheme: quadratic_gradient`, the mirrored clamp, the implicit "
+        "pressure, the pressure coupling) with only the case's own lengths, material and resolution set "
+        "(validation/cases/default_*.py, spheric2.py); its outputs (summary.json, timeseries.csv) are under "
+        "`runs/CASE/RUN/`. Each scene judges its own run (scenes/*.py, `evaluate`).", "",
+        f"Machine: {machine.get('cpus')} CPUs, Python {machine.get('python')}, Numba {machine.get('numba')}, NumPy "
+        f"{machine.get('numpy')}; {len(summaries)} of {len(rungs)} runs made; page written "
+        f"{datetime.date.today().isoformat()}. Wall time includes the scene's build (Numba's kernels from the on-disk "
+        "cache); runs made two at once, each on the threads its row gives (this host's speed drifts by up to 2x: "
+        "docs/performance/BENCH.md). Particles: the solid's (its stepped clamp included) and the water's, not the "
+        "walls; steps: the solid's and the water's. A run kept from an older commit says which commit's bits it was "
+        "checked against (`python -m bench.compare_versions`).", "",
+        *_headline(rungs, summaries), "",
+        f"![error against wall time]({figure})", "",
+        "Errors: the frequency's and the deflections' signed (+: softer than the reference), the fronts' and "
+        "Antoci's gate's an RMS over the record, SPHERIC test 2's the first judge's (H2's RMS over 0-6 s, in m "
+        "over the measured range); the paper's gate has no measurement, so its rungs are held to the finest one.",
+    ]
+    for case in cases.CASES:
+        if hasattr(case, "table"):
+            lines += case.table(out, rungs, summaries)
+        if hasattr(case, "plot"):
+            lines += [""] + [f"![{p}]({p})" for p in case.plot(out, rungs, summaries, plt)]
+    lines += ["", "## Studies", "", "Other schemes and options, and the default's sensitivity, each on its own page "
+              "(`sph-fsi validate CASE --out docs/validation/studies/CASE`):", "", *_studies(out),
+              "", "Verification of the parts: [linear_modes](linear_modes/REPORT.md) (the solid schemes' linear "
+              "stability), [STABILITY.md](STABILITY.md) (stiff and extreme inputs), [OPEN.md](OPEN.md) (what is "
+              "still wrong)."]
+    (out / "REPORT.md").write_text("\n".join(_wrapped(lines)) + "\n")
+    return out / "REPORT.md"

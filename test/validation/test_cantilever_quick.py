@@ -3,7 +3,7 @@ scheme for 2.25 periods of its reference, judged against the 3D linear-elasticit
 reference_data/cantilever_frequencies.csv; and a beam of another material through `sph-fsi validate --quick`.
 
 The default scheme (quadratic fit, strain-gradient nodal integration, mirrored clamp, implicit pressure) is -0.87 %
-at this spacing (docs/validation/cantilever_shapes, nu = 0.49, L / H = 10); the bound is the verification goal,
+at this spacing (docs/validation/studies/cantilever_shapes, nu = 0.49, L / H = 10); the bound is the verification goal,
 1 %, and the sign is asserted: below the 3D value. The run also must stay stable, lose little energy and grow no
 sideways motion.
 """
@@ -40,9 +40,9 @@ def test_the_papers_beam_with_the_default_scheme_within_1_percent_of_3d_fe(tmp_p
 def test_quick_default_scheme_on_a_nu_03_beam_against_its_own_fe(tmp_path):
     """The default scheme (mirrored clamp) on a beam of another material, nu = 0.3 (L/H = 10, the paper's section):
     judged against the project's 3D FE for that shape and nu (reference_data/cantilever_fe3d_nondimensional.csv),
-    not beam theory. Measured -0.79 % (docs/validation/cantilever_shapes; -1.34 % while the mirrored clamp kept the
-    fixed clamp's margin beside the root: docs/validation/clamp_effect); the bound is the verification issue's goal,
-    1 %, soft side."""
+    not beam theory. Measured -0.79 % (docs/validation/studies/cantilever_shapes; -1.34 % while the mirrored clamp kept
+    the fixed clamp's margin beside the root: docs/validation/studies/clamp_effect); the bound is the verification
+    issue's goal, 1 %, soft side."""
     assert validate(["cantilever_shapes"], quick=True, out_dir=tmp_path) == 0
     s = json.loads((tmp_path / "runs" / "cantilever_shapes" / "nu0.3_L_over_H_10" / "summary.json").read_text())
     assert s["settings"]["solid.clamp"] == "mirrored" and s["settings"]["solid.poisson_ratio"] == 0.3

@@ -1,6 +1,6 @@
 """CI: both gate scenes at a coarse spacing for a short time: the run stays stable and the free end moves the way
 the water pushes it, by the right order of magnitude. The full runs are `sph-fsi validate gate`
-(docs/validation/gate/)."""
+(docs/validation/studies/gate/)."""
 import pytest
 
 from sph_fsi_core.run import run_scene
@@ -64,8 +64,8 @@ def test_the_paper_gate_on_the_narrowest_slab_is_the_wide_slab():
     and the energies and forces per unit span agree to round-off (measured, as fractions of each one's largest value:
     the free end 9e-7 in x and 2e-6 in z, the strain energy 1.4e-6, the water's push 3.5e-6, the water's kinetic
     energy 1.3e-7, the gate's 2.2e-5 (its small lattice-scale ringing); at 1 mm the free end to 4-5 digits through the
-    peak, docs/validation/gate_span). A particle that met its own periodic image, or a layer left out of a pass, would
-    show here."""
+    peak, docs/validation/studies/gate_span). A particle that met its own periodic image, or a layer left out of a pass,
+    would show here."""
     narrow, s_narrow = _gate_rows(0.0)
     wide, s_wide = _gate_rows(0.024)
     span_narrow, span_wide = s_narrow["geometry_effective"]["span_m"], s_wide["geometry_effective"]["span_m"]

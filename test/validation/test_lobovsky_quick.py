@@ -2,8 +2,8 @@
 (20 mm), both releases, each from zero pressure and settled behind its gate, to T = 1.62, and the experiment's
 procedure with a quarter of the fluid's step. About 30 s on one thread.
 
-Measured at this rung (docs/validation/lobovsky/REPORT.md has the ladder), RMS of Z over T >= 1 / best delay dT /
-speed dZ/dT against the experiment's 1.339:
+Measured at this rung (docs/validation/studies/lobovsky/REPORT.md has the ladder), RMS of Z over T >= 1 / best delay
+dT / speed dZ/dT against the experiment's 1.339:
 - the gate gone at t = 0: 2.4 % / 0.032 / +12 % from zero pressure, 2.6 % / 0.036 / +12 % settled;
 - the gate lifted at 4.53 m/s: 3.9 % / 0.064 / +6.5 % from zero pressure, 0.53 % / -0.002 / +4.3 % settled (the
   experiment's procedure: the issue's goals, RMS <= 5 % and |dT| <= 0.06, are met; the speed's 3 % is not).

@@ -1,7 +1,8 @@
 """The solid alone under a prescribed load, settled, against plane-strain FE (scenes/clamped_plate.py): a short
 plate (L/t = 10, 4 particles through) so CI can afford it. The full ladder is `sph-fsi validate solid_static`
 (docs/validation/studies/solid_static/REPORT.md); the errors it measures are an open problem
-(docs/validation/OPEN.md).""" import pytest
+(docs/validation/OPEN.md)."""
+import pytest
 
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene

@@ -116,3 +116,33 @@ def test_the_material_band_spans_the_materials_at_one_spacing_and_leaves_out_twi
     spacing, materials, times, lower, upper = bands[0]
     assert spacing == round(dp, 9) and materials == [(12e6, 0.4), (1e7, 0.49)]
     assert np.allclose(lower.max(), 0.0345) and np.allclose(upper.max(), 0.0352)
+
+
+def test_the_default_report_lists_every_rung_holds_the_papers_gate_to_its_finest_and_names_kept_runs(tmp_path):
+    """docs/validation/REPORT.md's headline (issue 50, item 1): a row per rung of the default suite, "not run yet"
+    where none is stored; the paper's gate, which has no measurement, held to its finest rung; a run kept from an
+    older commit names the commit its bits were checked against; the figure is written."""
+    from sph_fsi_core.validation import cases
+    from sph_fsi_core.validation.report import write_default_report
+    rungs = validation.all_rungs()
+    assert {r.case for r in rungs} == set(cases.default_case_names())
+    assert all(not any(k in r.overrides for k in ("solid.scheme", "solid.pressure", "solid.clamp",
+                                                  "solid.fit_refresh", "coupling.model")) for r in rungs)
+    summaries = {
+        "paper_gate/through_4": _summary(tip_dx_peak_m=-7.0e-3, tip_dx_peak_time_s=0.06),
+        "paper_gate/through_6": _summary(tip_dx_peak_m=-8.0e-3, tip_dx_peak_time_s=0.06),
+        "tank/H_over_dp_20": _summary(floor_pressure_pa=970.0, reference_floor_pressure_pa=981.0, error=0.0112,
+                                      bits_unchanged={"same_bits_at": "def", "checked": "2026-12-06"}),
+    }
+    text = write_default_report(tmp_path, rungs, summaries).read_text()
+    gate = [line for line in text.splitlines() if "| 4 through |" in line and "tip dx peak -7.00 mm" in line]
+    assert len(gate) == 1 and "12.50 % (against the 6-through rung)" in gate[0]     # |-7 / -8 - 1|
+    tank = next(line for line in text.splitlines() if "floor p 970.0 Pa" in line)
+    assert "1.12 %" in tank and "abc; same bits at def (2026-12-06)" in tank
+    lines = text.splitlines()
+    first = next(i for i, line in enumerate(lines) if line.startswith("| case | measured |"))
+    rows = lines[first + 2:lines.index("", first)]
+    assert len(rows) == len(rungs) and all(line.count("|") == 14 for line in rows)   # a row per rung
+    assert sum("not run yet" in line for line in rows) == len(rungs) - len(summaries)
+    assert (tmp_path / "error_vs_walltime.png").stat().st_size > 10_000
+    assert "`sph-fsi validate --out " in text

@@ -24,6 +24,9 @@ ELASTICA_LOADS = (0.05, 2.0, 4.0)  # alpha: linear, the free end turned 18 and 3
 PLATE_THICKNESS = 0.05             # m (config/clamped_plate.yaml)
 PLATE_LADDER = (4, 6, 8)
 
+# Cases whose rungs are not a resolution ladder (shapes, loads): the figure shows their points unjoined
+NOT_LADDERS = ("beam_grid", "elastica")
+
 # What each case measures, and against what (the report's headline columns).
 MEASURES = {
     "paper_beam": ("first vertical frequency", "3D FE of the same beam (project's, quadratic hexahedra, "
@@ -47,11 +50,11 @@ def rungs():
         for ratio in GRID_SLENDERNESS:
             out.append(Rung("beam_grid", f"nu{nu:g}_L_over_H_{ratio}", "cantilever",
                             {"geometry.length": ratio * PAPER_BEAM_THICKNESS, "solid.poisson_ratio": nu},
-                            periods=2.25, resolution="4 through",
+                            periods=2.25, resolution=f"nu {nu:g}, L/H {ratio}",
                             note=f"L / H = {ratio}, nu = {nu:g}, 4 particles through, 2.25 periods"))
     for alpha in ELASTICA_LOADS:
         out.append(Rung("elastica", f"alpha_{alpha:g}", "cantilever_loaded", {"geometry.load_parameter": alpha},
-                        end_time=0.25, resolution="4 through", note=f"alpha = {alpha:g}, L / H = 10, 4 through"))
+                        end_time=0.25, resolution=f"alpha {alpha:g}", note=f"alpha = {alpha:g}, L / H = 10, 4 through"))
     for n in PLATE_LADDER:
         out.append(Rung("plate_fe", f"t_over_dp_{n}", "clamped_plate", {"numerics.spacing": PLATE_THICKNESS / n},
                         end_time=0.02, resolution=f"{n} through", note=f"{n} particles through the plate"))

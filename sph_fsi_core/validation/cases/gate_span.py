@@ -36,11 +36,12 @@ def rungs():
 
 def _counterpart_run(out_dir, key):
     """The kept run (summary, timeseries rows) of rung `key` ("case/label") in the report directory next to this one
-    (OUT/../CASE/runs/CASE/LABEL) or in this one's parent's runs (the main report's, OUT/../runs/CASE/LABEL);
-    (None, None) if neither holds it."""
+    (OUT/../CASE/runs/CASE/LABEL), in the schemes' study beside it (OUT/../schemes/runs/CASE/LABEL: the older
+    schemes' gate runs) or in this one's parent's runs (OUT/../runs/CASE/LABEL); (None, None) if none holds it."""
     case, label = key.split("/")
     parent = Path(out_dir).parent
-    for run in (parent / case / "runs" / case / label, parent / "runs" / case / label):
+    for run in (parent / case / "runs" / case / label, parent / "schemes" / "runs" / case / label,
+                parent / "runs" / case / label):
         if (run / "summary.json").is_file():
             rows = None
             if (run / "timeseries.csv").is_file():

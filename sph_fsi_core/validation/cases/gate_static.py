@@ -10,7 +10,7 @@ from .as_run import EXPLICIT_PRESSURE
 # (scenes/antoci_gate_loaded.py), both against plane-strain FE: coupled against loaded is the load transfer, loaded
 # against FE the gate's bending, at the validation spacings where the quadratic fit is determined (3 and 4 particles
 # through the gate), with the antoci_gate scene's scheme; and the solid under the exact load with the default
-# scheme and the mirrored clamp (as the plates converge, docs/validation/solid_static).
+# scheme and the mirrored clamp (as the plates converge, docs/validation/studies/solid_static).
 GATE_STATIC_SPACINGS = ((0.005 / 3, "dp1.67mm"), (0.00125, "dp1.25mm"))
 
 

@@ -19,10 +19,13 @@ SCENE = "spheric2_dam_break"
 DEPTH = 0.55                      # m, the column (reference_data/spheric2_geometry.csv)
 LADDER = (20, 25, 30)             # particles through the depth (40: about an hour on 2 cores, not run yet)
 JUDGED = ("H2", "H4", "P1", "P3")
+# What the default suite's headline reports, and against what (its first judge's error; every judge in the table)
+MEASURES = {CASE: ("water height H2 in front of the box: RMS over 0-6 s, over the measured range",
+                   "MARIN's measurement (Kleefsman et al. 2005; reference_data/spheric2_exp_water_height.csv)")}
 
 
 def rungs():
-    return [Rung(CASE, f"H_over_dp_{n}", SCENE, {"numerics.spacing": DEPTH / n}, end_time=6.0,
+    return [Rung(CASE, f"H_over_dp_{n}", SCENE, {"numerics.spacing": DEPTH / n}, end_time=6.0, resolution=f"H/dp {n}",
                  note=f"dp = {DEPTH / n * 1e3:.3g} mm, {n} particles through the column; H2, H4, P1, P3 against "
                       f"MARIN's measurements") for n in LADDER]
 
