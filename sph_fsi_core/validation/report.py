@@ -78,37 +78,48 @@ def _plots(out_dir, rungs, summaries):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    made = []
     # Error against wall time, one series per case (the Pareto view).
-    fig, ax = plt.subplots(figsize=(6, 4.5))
-    for case in sorted({r.case for r in rungs}):
-        pts = [(summaries[r.key]["wall_time_s"], summaries[r.key]["error"], r.label) for r in rungs
-               if r.case == case and r.key in summaries and summaries[r.key].get("error")]
-        if pts:
-            x, y, labels = zip(*pts)
-            ax.loglog(x, y, "o-", label=case)
-            for xi, yi, lab in pts:
-                ax.annotate(lab, (xi, yi), fontsize=7, xytext=(3, 3), textcoords="offset points")
-    ax.set_xlabel("wall time on this machine [s]")
-    ax.set_ylabel("relative error against the reference")
-    ax.set_title("Error against run time")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "error_vs_walltime.png", dpi=120)
-    plt.close(fig)
-    made.append("error_vs_walltime.png")
+    series = {case: [(summaries[r.key]["wall_time_s"], summaries[r.key]["error"], r.label) for r in rungs
+                     if r.case == case and r.key in summaries and summaries[r.key].get("error")]
+              for case in sorted({r.case for r in rungs})}
+    made = [error_figure(plt, Path(out_dir) / "error_vs_walltime.png", series, "Error against run time",
+                         "wall time on this machine [s]", "relative error against the reference")]
     for case in cases.SECTIONS:
         if hasattr(case, "plot"):
             made += case.plot(out_dir, rungs, summaries, plt)
     return made
 
 
+def error_figure(plt, path, series, title, xlabel, ylabel, styles=None, size=(6, 4.5), label_size=7,
+                 legend=None):
+    """Error against wall time, log-log: `series` {name: [(wall s, error, point label)]}, a line per name (empty
+    ones left out); `styles` {name: plot keywords} (default "o-" in the colour cycle); the PNG's name."""
+    fig, ax = plt.subplots(figsize=size)
+    for name, pts in series.items():
+        if pts:
+            x, y, _ = zip(*pts)
+            if styles:
+                ax.loglog(x, y, label=name, **styles[name])
+            else:
+                ax.loglog(x, y, "o-", label=name)
+            for xi, yi, lab in pts:
+                ax.annotate(lab, (xi, yi), fontsize=label_size, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(**(legend or {"fontsize": 8}))
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path).name
+
+
 def made_by(out, rungs):
     """The command that makes this report: `sph-fsi validate [CASES] --out OUT` (no case names: all of them; OUT
     relative to the working directory when it lies inside it)."""
     reported = list(dict.fromkeys(r.case for r in rungs))
-    every = list(dict.fromkeys(r.case for r in cases.all_rungs()))
+    every = cases.default_case_names()
     try:
         shown = out.resolve().relative_to(Path.cwd().resolve())
     except ValueError:
@@ -226,33 +237,24 @@ def _error_figure(out_dir, rungs, summaries, plt):
     """Error against wall time, log-log, a line per case's ladder (points unjoined where the rungs are shapes or
     loads, not resolutions: a module's NOT_LADDERS)."""
     unjoined = {name for case in cases.CASES for name in getattr(case, "NOT_LADDERS", ())}
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
     markers = "osD^v<>phX*P"
     names = list(dict.fromkeys(r.case for r in rungs))
+    series, styles = {}, {}
     for i, name in enumerate(names):
-        pts = []
+        series[name] = []
         for r in rungs:
             s = summaries.get(r.key)
             if r.case != name or s is None:
                 continue
             err, _ = _case_error(r, s, summaries)
             if err:
-                pts.append((s["wall_time_s"], err, r.resolution or r.label))
-        if pts:
-            x, y, labels = zip(*pts)
-            ax.loglog(x, y, marker=markers[i % len(markers)], linestyle="none" if name in unjoined else "-",
-                      label=name, color=plt.cm.tab20(i % 20))
-            for xi, yi, lab in pts:
-                ax.annotate(lab, (xi, yi), fontsize=6, xytext=(3, 3), textcoords="offset points")
-    ax.set_xlabel("wall time [s] (threads in the table)")
-    ax.set_ylabel("|error| against the reference")
-    ax.set_title("The default scheme: error against run time, a line per case")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    fig.savefig(Path(out_dir) / "error_vs_walltime.png", dpi=120)
-    plt.close(fig)
-    return "error_vs_walltime.png"
+                series[name].append((s["wall_time_s"], err, r.resolution or r.label))
+        styles[name] = {"marker": markers[i % len(markers)], "linestyle": "none" if name in unjoined else "-",
+                        "color": plt.cm.tab20(i % 20)}
+    return error_figure(plt, Path(out_dir) / "error_vs_walltime.png", series,
+                        "The default scheme: error against run time, a line per case",
+                        "wall time [s] (threads in the table)", "|error| against the reference", styles=styles,
+                        size=(7.5, 5.5), label_size=6, legend={"fontsize": 7, "ncol": 2})
 
 
 # Study pages that no one module makes: what each shows
