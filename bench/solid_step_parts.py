@@ -21,20 +21,16 @@ import time
 import numba
 
 from sph_fsi_core.diagnostics import Diverged
-from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 
-from .solid_throughput import SIZES
+from .solid_throughput import SIZES, beam_spec
 
 VARIANTS = {"default": [], "tolerance_1e-2": ["solid.pressure_tolerance=0.01"], "no_solve": ["solid.pressure=explicit"]}
 
 
 def build(label, extra):
-    length, width, thickness = SIZES[label]
-    spec = load_scene("cantilever", [f"geometry.length={length}", f"geometry.width={width}",
-                                     f"geometry.thickness={thickness}", "geometry.clamp_margin=1",
-                                     "output.snapshot_interval=0"] + extra)
-    sim = Simulation(spec)
+    """The bench's beam with the variant's overrides, stepped once (compiled and warm); None if it diverged."""
+    sim = Simulation(beam_spec(label, extra))
     try:
         sim.step()   # compiled and warm
     except Diverged as stop:

@@ -25,12 +25,16 @@ SIZES = {"1e3": (0.020, 0.006, 0.008), "1e4": (0.040, 0.016, 0.016), "1e5": (0.1
 SCHEMES = ("quadratic_plain", "quadratic_gradient", "gray2001")
 
 
-def measure(label, scheme="quadratic_plain", steps_target=2.0e7, min_seconds=5.0):
+def beam_spec(label, overrides=()):
+    """The bench's beam of size `label` (SIZES) as a scene, with `overrides` ("key=value") on top."""
     length, width, thickness = SIZES[label]
-    spec = load_scene("cantilever", [f"geometry.length={length}", f"geometry.width={width}",
+    return load_scene("cantilever", [f"geometry.length={length}", f"geometry.width={width}",
                                      f"geometry.thickness={thickness}", "geometry.clamp_margin=1",
-                                     "output.snapshot_interval=0", f"solid.scheme={scheme}"])
-    sim = Simulation(spec)
+                                     "output.snapshot_interval=0", *overrides])
+
+
+def measure(label, scheme="quadratic_plain", steps_target=2.0e7, min_seconds=5.0):
+    sim = Simulation(beam_spec(label, [f"solid.scheme={scheme}"]))
     sim.step()  # compile and warm up
     n = sim.particle_count
     start_steps, start_time, t0 = sim.solid_steps, sim.time, time.perf_counter()

@@ -59,6 +59,12 @@ def _stable(s):
     return "yes" if s["stable"] else f"no: {d['check']} at {d['time']:.4g} s"
 
 
+def _cost(s):
+    """(particles, steps) of a run: the solid's (its stepped clamp included) and the water's, not the walls."""
+    return (s["particles"].get("solid", 0) + s["particles"].get("fluid", 0),
+            s["solid_steps"] + s.get("fluid_steps", 0))
+
+
 def _row(rung, s):
     """A rung's row of a study's headline table: its cost, what it measured against what, the error."""
     if s is None:
@@ -66,8 +72,7 @@ def _row(rung, s):
     stable = _stable(s)
     measured, ref, err = measured_against(s)
     m = s.get("machine", {})
-    moving = s["particles"].get("solid", 0) + s["particles"].get("fluid", 0)
-    steps = s["solid_steps"] + s.get("fluid_steps", 0)
+    moving, steps = _cost(s)
     return (f"| {rung.case} | {rung.label} | {s['settings']['numerics.spacing'] * 1e3:.3g} | "
             f"{moving} | {steps} | {s['wall_time_s']:.1f} | "
             f"{fmt(s['particle_steps_per_second'] / 1e6, '.3f')} | {measured} | {ref} | {err} | {stable} | "
@@ -224,8 +229,7 @@ def _headline(rungs, summaries):
         _, err = _case_error(r, s, summaries)
         if not s["stable"]:
             err = f"{err}; unstable: {_stable(s)}"
-        moving = s["particles"].get("solid", 0) + s["particles"].get("fluid", 0)
-        steps = s["solid_steps"] + s.get("fluid_steps", 0)
+        moving, steps = _cost(s)
         m = s.get("machine", {})
         lines.append(f"| {name} | {what} | {against} | {run} | {s['settings']['numerics.spacing'] * 1e3:.3g} | "
                      f"{moving} | {steps} | {s['wall_time_s']:.0f} | {m.get('numba_threads', '-')} | {measured} | "
