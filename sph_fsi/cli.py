@@ -249,6 +249,7 @@ def _cmd_replay(args):
 
 
 def _print_summary(s, out):
+    from sph_fsi_core.run import solid_share_of_stepping
     steps = []
     if s.get("solid_steps"):
         steps.append(f"solid steps: {s['solid_steps']}")
@@ -258,8 +259,10 @@ def _print_summary(s, out):
         steps.append(f"fluid steps: {s['fluid_steps']} ({s['fluid_iterations_per_step']:.1f} correction iterations "
                      f"per step)")
     counts = {k: v for k, v in s["particles"].items() if v and k != "solid_moving"}
+    solid_share = solid_share_of_stepping(s)
+    share = f" (the solid's steps {100 * solid_share:.0f} %)" if solid_share is not None else ""
     print(f"particles: {sum(counts.values()):,} ({', '.join(f'{k} {v:,}' for k, v in counts.items())})  "
-          f"{'  '.join(steps)}  wall time: {s['wall_time_s']:.1f} s  "
+          f"{'  '.join(steps)}  wall time: {s['wall_time_s']:.1f} s{share}  "
           f"particle-steps/s: {s['particle_steps_per_second'] or 0:,.0f}")
     if s.get("settling"):
         st = s["settling"]

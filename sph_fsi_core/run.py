@@ -165,6 +165,8 @@ class RunLog:
             "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s
                                                      if stepping_s > 0 and fluid_count else None),
             "wall_time_s": self.setup_s + stepping_s, "setup_time_s": self.setup_s, "stepping_time_s": stepping_s,
+            # of it, the solid's steps (with the coupling: its sub-steps); the rest is the fluid's and the outputs'
+            **({"solid_stepping_time_s": sim.solid_seconds} if solid_count else {}),
             "particle_steps": particle_steps,
             "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
             "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
@@ -225,6 +227,14 @@ class Progress:
                 f"{rate} particle-steps/s")
 
 
+def solid_share_of_stepping(summary):
+    """The fraction of a run's stepping time its solid's steps took, where it has a solid and a fluid; else None."""
+    solid, stepping = summary.get("solid_stepping_time_s"), summary.get("stepping_time_s")
+    if solid is None or not summary.get("fluid_steps") or not stepping:
+        return None
+    return solid / stepping
+
+
 def headline(summary):
     """One line for a log: how the run ended, its error against the reference (or its checks), its cost."""
     s = summary
@@ -237,7 +247,10 @@ def headline(summary):
     if s["status"] == "diverged":
         d = s["diverged"]
         parts.append(f"{d['check']}: {d['detail']}")
-    parts.append(f"wall time {s['wall_time_s']:.1f} s (setup {s['setup_time_s']:.1f} s)")
+    solid_share = solid_share_of_stepping(s)
+    parts.append(f"wall time {s['wall_time_s']:.1f} s (setup {s['setup_time_s']:.1f} s"
+                 + (f", the solid's steps {100 * solid_share:.0f} % of the stepping)" if solid_share is not None
+                    else ")"))
     if s.get("particle_steps_per_second"):
         parts.append(f"{s['particle_steps_per_second'] / 1e6:.3g} M particle-steps/s")
     return "; ".join(parts)

@@ -95,6 +95,7 @@ class Simulation:
         self.period = built.period
         self.time = 0.0
         self.solid_steps = 0
+        self.solid_seconds = 0.0     # wall time inside the solid's steps (summary.json's solid_stepping_time_s)
         self.outer_steps = 0
         self.last_solid_dt = 0.0
         self.last_substeps = 0
@@ -389,9 +390,12 @@ class Simulation:
             self.fluid.vel *= math.exp(-self.fluid_damping_rate * duration)
 
     def _advance_solid(self, n, dt, ext_acc=NO_EXTERNAL):
-        """`n` solid steps of `dt` (SolidSolver.advance), counted."""
+        """`n` solid steps of `dt` (SolidSolver.advance), counted and timed."""
         solver = self.solid_solver
-        if solver.advance(n, dt, ext_acc):    # once per run; summary.json counts them all
+        start = _time.perf_counter()
+        capped_first = solver.advance(n, dt, ext_acc)
+        self.solid_seconds += _time.perf_counter() - start
+        if capped_first:    # once per run; summary.json counts them all
             prm = solver.params
             self.warnings.append(f"t = {self.time:.6g} s: a solid step reached solid.pressure_max_iterations = "
                                  f"{prm.pressure_max_iterations} with its residual above "

@@ -13,7 +13,7 @@ import pytest
 
 from sph_fsi.parameters import node_defaults
 from sph_fsi.runner import Runner, numbered
-from sph_fsi_core.run import END_TOLERANCE, Run, run_scene
+from sph_fsi_core.run import END_TOLERANCE, Run, headline, run_scene
 from sph_fsi_core.scene import load_scene
 
 SMALL = [("geometry.length", 0.012), ("geometry.width", 0.003), ("geometry.clamp_margin", 2)]
@@ -175,6 +175,23 @@ def test_run_end_rule_and_numbered_paths():
     assert summary["status"] == "finished" and summary["stepping_time_s"] > 0
     assert numbered("runs/x.mcap", 0) == "runs/x.mcap" and numbered("runs/x.mcap", 2) == "runs/x_2.mcap"
     assert numbered("runs/out", 1) == "runs/out_1"
+
+
+def test_a_coupled_runs_summary_splits_its_stepping_time_between_the_solid_and_the_rest():
+    """summary.json's solid_stepping_time_s is the part of stepping_time_s inside the solid's sub-steps: more than
+    nothing, less than the whole (the water's steps take the rest), and the headline gives the share."""
+    coarse = [("numerics.spacing", 0.002), ("geometry.gate_clamp_height", 0.004), ("geometry.span", 0.0),
+              ("solid.scheme", "gray2001"), ("output.snapshot_interval", 0.0)]
+    run = Run(load_scene("elastic_gate", coarse), end_time=0.004)
+    while not run.at_end:
+        assert run.advance()
+    summary = run.finish("interrupted")
+    solid, stepping = summary["solid_stepping_time_s"], summary["stepping_time_s"]
+    assert 0.0 < solid < stepping and summary["solid_steps"] > summary["fluid_steps"] > 0
+    assert f"the solid's steps {100 * solid / stepping:.0f} % of the stepping" in headline(summary)
+    fluid_only = Run(load_scene("dam_break", [("numerics.spacing", 0.05715 / 10)]), end_time=0.002)
+    fluid_only.advance()
+    assert "solid_stepping_time_s" not in fluid_only.finish("interrupted")
 
 
 def test_runner_imports_without_ros():
