@@ -284,7 +284,7 @@ def _print_summary(s, out):
               f"vs eq. (15) {s['eq15_hz']:.3f} Hz: {s['error_vs_eq15_percent']:+.2f} %")
     if s.get("frequency_note"):
         print(f"frequency: {s['frequency_note']}")
-    print(f"outputs: {out}/timeseries.csv, {out}/summary.json, {out}/snapshots/")
+    print(f"outputs: {out}/timeseries.csv, {out}/summary.json" + (f", {out}/snapshots/" if s.get("snapshots") else ""))
 
 
 def _cmd_validate(args):

@@ -398,7 +398,8 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, 
     out = Path(out_dir) if out_dir else None
     if out:
         out.mkdir(parents=True, exist_ok=True)
-        (out / "snapshots").mkdir(exist_ok=True)
+        if spec["output.snapshot_interval"] > 0:     # no snapshots, no empty folder for them
+            (out / "snapshots").mkdir(exist_ok=True)
         for stale in ("summary.json", "timeseries.csv"):   # an earlier run's, never mistaken for this one's
             (out / stale).unlink(missing_ok=True)
     run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None, restored=restart)

@@ -150,6 +150,7 @@ def test_runner_time_series_equals_run_scenes_to_the_bit(runner, tmp_path):
     spec = load_scene("cantilever", SMALL + [("scene.end_time", end), ("output.snapshot_interval", 0.0)])
     cli = run_scene(spec, tmp_path / "cli", progress=False)
     assert (tmp_path / "cli" / "timeseries.csv").read_bytes() == node_csv
+    assert cli["snapshots"] == 0 and not (tmp_path / "cli" / "snapshots").exists()   # none asked for, no folder
     assert len(node_csv.splitlines()) == 1 + 1 + round(end / OUTER)   # header, t = 0, 20 outer steps
     for key in ("simulated_time_s", "outer_steps", "solid_steps", "solid_dt_s", "particle_steps", "status"):
         assert cli[key] == node_summary[key], key
