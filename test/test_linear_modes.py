@@ -85,8 +85,8 @@ def test_assembled_default_scheme_has_its_time_stepped_frequency():
 
 
 def test_default_scheme_step_is_inside_its_linear_limit():
-    """The scheme's solid.cfl 0.25 is stable; the paper's gate blew up at 0.5 (docs/validation/OPEN.md 5): the
-    limit lies between."""
+    """The scheme's solid.cfl 0.25 is stable; the paper's gate blew up at 0.5 (docs/method.md, "The pressure
+    implicit"): the limit lies between."""
     cfl = linear_modes.default_scheme_stable_cfl()
     assert 0.35 < cfl < 0.5
 
