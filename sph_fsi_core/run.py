@@ -297,6 +297,8 @@ class Run:
         self.snapshots_dir = Path(snapshots_dir) if snapshots_dir else None
         self.snapshots = 0
         self._snapshot_dt = spec["output.snapshot_interval"] if snapshots_dir else 0.0
+        if self._snapshot_dt > 0:    # a run without snapshots leaves no empty folder for them
+            self.snapshots_dir.mkdir(parents=True, exist_ok=True)
         self.next_snapshot = 0.0
         if restored is not None:
             self.snapshots, self.next_snapshot = restored["snapshots"], restored["next_snapshot"]
@@ -398,8 +400,6 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, 
     out = Path(out_dir) if out_dir else None
     if out:
         out.mkdir(parents=True, exist_ok=True)
-        if spec["output.snapshot_interval"] > 0:     # no snapshots, no empty folder for them
-            (out / "snapshots").mkdir(exist_ok=True)
         for stale in ("summary.json", "timeseries.csv"):   # an earlier run's, never mistaken for this one's
             (out / stale).unlink(missing_ok=True)
     run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None, restored=restart)

@@ -181,9 +181,8 @@ def test_run_end_rule_and_numbered_paths():
 def test_a_coupled_runs_summary_splits_its_stepping_time_between_the_solid_and_the_rest():
     """summary.json's solid_stepping_time_s is the part of stepping_time_s inside the solid's sub-steps: more than
     nothing, less than the whole (the water's steps take the rest), and the headline gives the share."""
-    coarse = [("numerics.spacing", 0.002), ("geometry.gate_clamp_height", 0.004), ("geometry.span", 0.0),
-              ("solid.scheme", "gray2001"), ("output.snapshot_interval", 0.0)]
-    run = Run(load_scene("elastic_gate", coarse), end_time=0.004)
+    from test_coupling import COARSE
+    run = Run(load_scene("elastic_gate", COARSE + [("output.snapshot_interval", 0.0)]), end_time=0.004)
     while not run.at_end:
         assert run.advance()
     summary = run.finish("interrupted")
