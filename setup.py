@@ -9,8 +9,8 @@ setup(
     version='0.1.0',
     # sph_fsi (ROS node + CLI), sph_fsi_core (simulator, no ROS), sph_fsi_core.scenes
     packages=find_packages(exclude=['test', 'test.*', 'bench', 'bench.*']),
-    # Reference data read by sph_fsi_core/validation/references.py, next to the module.
-    package_data={'sph_fsi_core.validation': ['reference_data/*.csv']},
+    # Reference data read by sph_fsi_core/answers/references.py, next to the module.
+    package_data={'sph_fsi_core.answers': ['reference_data/*.csv']},
     data_files=[
         ('share/ament_index/resource_index/packages', ['resource/' + package_name]),
         ('share/' + package_name, ['package.xml']),

@@ -9,7 +9,7 @@ scene and overrides; `--steps` outer steps later their state (COMPARED) and ever
 (bitwise, or the largest difference). Then `--rounds` more outer steps each, alternating, are timed: on this project's
 2-core VM a process can run at half speed for its whole life (docs/performance/BENCH.md), so code versions are
 compared only within one process. Numba's cache of the copy lives in the temporary directory and is discarded with it;
-this checkout's is its own source-keyed one (sph_fsi_core/numerics/jit_cache.py). The solid's arrays are compared
+this checkout's is its own source-keyed one (sph_fsi_core/jit_cache.py). The solid's arrays are compared
 on its moving particles and its clamp's apart (a version may leave out a clamp's unreached particles); the speed is
 given per particle-step and per simulated second, which counts a particle left out as work saved.
 """

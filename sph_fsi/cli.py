@@ -112,7 +112,7 @@ def _check_writable_file(option, path):
 
 def _cmd_run(args):
     import time
-    from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, scene_kernels_cached
+    from sph_fsi_core.jit_cache import COMPILING_LINE, scene_kernels_cached
     from sph_fsi_core.precompile import compile_cold_scene
     from sph_fsi_core.run import Interrupted, run_scene
     from sph_fsi_core.memory_guard import MAX_PARTICLES_ENV
@@ -226,7 +226,7 @@ def _cmd_run(args):
 
 
 def _cmd_compile(args):
-    from sph_fsi_core.numerics.jit_cache import scene_kernels_cached
+    from sph_fsi_core.jit_cache import scene_kernels_cached
     from sph_fsi_core.precompile import compile_scene
     from sph_fsi_core.scene import load_scene
     spec = load_scene(args.scene, args.set or [])

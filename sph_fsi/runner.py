@@ -25,7 +25,7 @@ import time
 import traceback
 from collections import deque
 
-from sph_fsi_core.numerics.jit_cache import COMPILING_LINE, scene_kernels_cached
+from sph_fsi_core.jit_cache import COMPILING_LINE, scene_kernels_cached
 from sph_fsi_core.precompile import compile_cold_scene
 from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
 from sph_fsi_core.scene import load_scene

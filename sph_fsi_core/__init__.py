@@ -15,7 +15,7 @@ __version__ = "0.1.0"
 os.environ.setdefault("GOMP_SPINCOUNT", "1000")
 
 # Numba's cache in a directory named by the kernels' sources, so an edited file never runs beside stale machine code
-# of the kernels calling it (numerics/jit_cache.py says why); before any kernel is defined.
-from .numerics import jit_cache as _jit_cache  # noqa: E402
+# of the kernels calling it (jit_cache.py says why); before any kernel is defined.
+from . import jit_cache as _jit_cache  # noqa: E402
 
 _jit_cache.use_source_keyed_cache()

@@ -28,7 +28,7 @@ import time
 
 from typing import NamedTuple
 
-from .numerics.jit_cache import fitted_solid, kernels_cached
+from .jit_cache import fitted_solid, kernels_cached
 from .solid.schemes import SCHEME_KEYS
 
 # The keys whose values select which compiled code the solid runs (solid/stepper.solid_drivers, pair_variant).
@@ -57,7 +57,7 @@ def warm_up_parts(spec):
 
 
 def uncached_parts(spec):
-    """warm_up_parts whose half of the kernels is not in the cache yet (its entry kernel: numerics/jit_cache.py)."""
+    """warm_up_parts whose half of the kernels is not in the cache yet (its entry kernel: jit_cache.py)."""
     return [part for part in warm_up_parts(spec) if kernels_cached((part.half,), fitted_solid(spec)) is not True]
 
 

@@ -10,13 +10,10 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from .errors import SceneError
 from .solid.schemes import DEFAULT_SCHEME, SCHEMES, expansion_text
 
 MAX_ART_EXPONENT = 12   # solid.artificial_stress_exponent's upper bound (gray2001.integer_power takes n < 16)
-
-
-class SceneError(ValueError):
-    """Bad scene input: the message names the key, the bad value and what is allowed."""
 
 
 @dataclass(frozen=True)

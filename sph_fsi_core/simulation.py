@@ -19,12 +19,10 @@ from .probes import ProbeSet, probe_columns
 from .fluid.stepper import FluidSolver
 from .scene import SceneError, SceneSpec
 from .state import WallState
-from .scenes import BUILDERS
+from .scenes import BUILDERS, build_scene
 from .solid.solver import NO_EXTERNAL, NO_MIRROR, SolidSolver, artificial_stress_warning, cfl_warning
-from .numerics.jit_cache import start_parallel_runtime
-from .numerics.kernels import SUPPORT_RADIUS_IN_H
-from .scenes.built import check_layout, without_unreached_clamp
-from .scenes.tank import lattice_density_scale
+from .jit_cache import start_parallel_runtime
+from .numerics.kernels import lattice_density_scale
 
 __all__ = ["Simulation", "Diverged"]
 
@@ -72,15 +70,10 @@ class Simulation:
         """The scene's particles, the solid's arrays and (unless not `start`, for `allocated`) everything the
         first step needs: the solid's list, fit and forces, the fluid's solver, the coupling and the settling."""
         v = self.spec.values
-        built = self.builder.build(v)
-        check_layout(built, v["numerics.spacing"])
+        # the mirrored clamp's particles left out: unreached_clamp (scenes/built.without_unreached_clamp)
+        built, self.unreached_clamp = build_scene(self.spec.builder, v)
         self.spacing = v["numerics.spacing"]
         self.h = v["numerics.smoothing_ratio"] * self.spacing
-        self.unreached_clamp = 0   # the mirrored clamp's particles left out (scenes/built.without_unreached_clamp)
-        if built.solid is not None and v["solid.clamp"] == "mirrored" and built.clamp_mirror is not None:
-            built, self.unreached_clamp = without_unreached_clamp(
-                built, SUPPORT_RADIUS_IN_H * self.h + self.spacing, v.get("fluid.density", 0.0),
-                lattice_density_scale(v["numerics.smoothing_ratio"]))
         self.solid = built.solid
         self.fluid = built.fluid
         self.walls = built.walls

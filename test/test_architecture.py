@@ -15,7 +15,7 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
 PHYSICS = ("numerics", "solid", "fluid", "coupling")
-ABOVE_PHYSICS = ("scenes", "simulation", "run", "validation", "scene")
+ABOVE_PHYSICS = ("scenes", "simulation", "run", "validation", "scene", "answers", "jit_cache", "precompile")
 
 
 def modules(root, package):

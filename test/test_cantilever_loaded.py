@@ -1,5 +1,5 @@
 """The cantilever under a dead load (scenes/cantilever_loaded.py) and its exact reference, the elastica
-(validation/references.py: elastica_tip): the shooting solution against Bisshopp & Drucker's tabulated values and
+(answers/references.py: elastica_tip): the shooting solution against Bisshopp & Drucker's tabulated values and
 the linear limits; the load the builder applies, in total and where; the quick rung settles within its bound."""
 import math
 
@@ -10,7 +10,7 @@ from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import cantilever_loaded
 from sph_fsi_core.simulation import Simulation
-from sph_fsi_core.validation.references import elastica_tip
+from sph_fsi_core.answers.references import elastica_tip
 
 
 def test_elastica_against_bisshopp_drucker_and_the_linear_limits():

@@ -5,7 +5,7 @@ docs/method.md, "The clamp").
 import numpy as np
 import pytest
 
-from sph_fsi_core.validation.oscillation import measure_frequency, period_averaged
+from sph_fsi_core.answers.oscillation import measure_frequency, period_averaged
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
@@ -104,10 +104,10 @@ def test_mirrored_clamp_keeps_the_energy_of_a_free_oscillation(small_beam_runs):
 def test_mirrored_clamp_brings_the_short_beam_closer_to_3d_elasticity(small_beam_runs):
     """12 x 3 x 4 mm beam at H/dp = 4, where the fixed clamp's half spacing of extra length is 4 % of L.
 
-    3D elasticity (sph_fsi_core.validation.fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements, 184.41 Hz
+    3D elasticity (sph_fsi_core.answers.fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements, 184.41 Hz
     with 0.5 mm (converging from above). Measured: fixed 165.0 Hz, mirrored 167.8 Hz (both without viscosity).
     """
-    from sph_fsi_core.validation.fe_reference import cantilever_fe_frequency
+    from sph_fsi_core.answers.fe_reference import cantilever_fe_frequency
     fe = cantilever_fe_frequency(0.012, thickness=0.004, width=0.003, young_modulus=1.859e6, poisson_ratio=0.49,
                                  density=1000.0, element_size=1e-3)["vertical_hz"]
     fixed, mirrored = (small_beam_runs[c][0]["frequency_hz"] for c in ("fixed", "mirrored"))
@@ -163,10 +163,10 @@ def test_the_clamp_the_body_never_reaches_becomes_the_waters_wall_where_it_was_b
     ghosts with d + dp / 2 < 2h (d from the face; kept to 2h + dp / 2 for margin: 3 layers at h = 1.3 dp). The other
     38 layers are left out of the solid (scenes/built.without_unreached_clamp) and stand in the water's walls for the
     rigid holder, where they were built and with the mass the coupling gives them as a solid's particles."""
-    import sph_fsi_core.simulation as simulation
+    import sph_fsi_core.scenes as scenes
     spec = load_scene("antoci_gate", ["numerics.spacing=0.0016666666666666668"])
     sim = Simulation(spec)
-    monkeypatch.setattr(simulation, "without_unreached_clamp", lambda built, *args: (built, 0))
+    monkeypatch.setattr(scenes, "without_unreached_clamp", lambda built, *args: (built, 0))
     whole = Simulation(spec)
     s, w = sim.solid, whole.solid
     assert sim.unreached_clamp == 38 * 3 * 6 and whole.solid.count - s.count == sim.unreached_clamp
@@ -194,11 +194,11 @@ def test_leaving_the_unreached_clamp_out_changes_the_body_by_round_off_only(monk
     its unreached layer over 3 ms (1,000 steps): the free end the same within 1e-10 of its swing. With the explicit
     pressure: the implicit one's conjugate gradients stop at their tolerance, where the passes' other order of
     addition changes an iteration count and the answer by 1e-8 of the swing (1e-6 of a step's solve)."""
-    import sph_fsi_core.simulation as simulation
+    import sph_fsi_core.scenes as scenes
     spec = load_scene("cantilever", ["scene.end_time=0.003", "output.snapshot_interval=0",
                                      "solid.pressure=explicit"])
     sims = [Simulation(spec)]
-    monkeypatch.setattr(simulation, "without_unreached_clamp", lambda built, *args: (built, 0))
+    monkeypatch.setattr(scenes, "without_unreached_clamp", lambda built, *args: (built, 0))
     sims.append(Simulation(spec))
     assert sims[0].unreached_clamp == 6 * 4 and sims[1].solid.count - sims[0].solid.count == 24
     tips = [[], []]

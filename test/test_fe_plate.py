@@ -1,9 +1,9 @@
-"""The static FE reference of a clamped-clamped plane-strain strip (validation/fe_reference.py), which judges the
+"""The static FE reference of a clamped-clamped plane-strain strip (answers/fe_reference.py), which judges the
 hydrostatic-plate case (Fourey et al. 2017; ../shared/reference/hydrostatic_plate_fourey2017.csv), against beam
 theory and statics."""
 import pytest
 
-from sph_fsi_core.validation.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
+from sph_fsi_core.answers.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
 
 # The benchmark's plate (hydrostatic_plate_fourey2017.csv): 1 m span, 0.05 m thick aluminium, 2 m of water on top.
 SPAN, THICKNESS, E, NU, RHO_S = 1.0, 0.05, 67.5e9, 0.3, 2700.0
@@ -51,7 +51,7 @@ def test_cantilever_strip_against_beam_theory():
     """The one-end-clamped strip (a gate held static): a uniform pressure gives q L^4 / (8 D) (Euler-Bernoulli)
     plus the shear deflection q L^2 / (2 kappa G t) at L/t = 16 (Antoci's gate), and twice the pressure twice the
     deflection."""
-    from sph_fsi_core.validation.fe_reference import cantilever_strip_fe_deflection
+    from sph_fsi_core.answers.fe_reference import cantilever_strip_fe_deflection
     length, thickness, e, nu = 0.079, 0.005, 12.0e6, 0.4
     rigidity = e * thickness ** 3 / (12.0 * (1.0 - nu ** 2))
     one = cantilever_strip_fe_deflection(length, thickness, e, nu, 100.0)
@@ -72,7 +72,7 @@ def test_cantilever_strip_own_weight_across_is_a_pressure_on_its_top():
     geometry.supports = clamped_free) bends it as the same load per area as a pressure would: rho g t L^4 / (8 D)
     (Euler-Bernoulli, within 1 % at L/t = 30), the two add, and a body force along +z (towards the pressed face's
     outside) lifts the strip."""
-    from sph_fsi_core.validation.fe_reference import cantilever_strip_fe_deflection
+    from sph_fsi_core.answers.fe_reference import cantilever_strip_fe_deflection
     length, thickness, e, nu, rho, g = 0.6, 0.02, 1.0e8, 0.3, 2700.0, 9.81
     rigidity = e * thickness ** 3 / (12.0 * (1.0 - nu ** 2))
     weight = cantilever_strip_fe_deflection(length, thickness, e, nu, 0.0, body_force_across=-rho * g)
@@ -92,7 +92,7 @@ def test_3d_cantilever_static_against_euler_bernoulli():
     within 1 % (shear adds about 0.3 %, the clamped root's held Poisson contraction takes a little), a point and
     its mirror image across y = W / 2 read the same, and the answer is linear in the load."""
     import numpy as np
-    from sph_fsi_core.validation.fe_reference import cantilever_fe_static_deflection
+    from sph_fsi_core.answers.fe_reference import cantilever_fe_static_deflection
     length, thickness, width, e, nu = 0.08, 0.004, 0.006, 1.0e6, 0.3
     end = [(length, y, z) for y in (0.0, 0.0015, 0.003, 0.0045, 0.006) for z in (0.0, 0.002, 0.004)]
     one = cantilever_fe_static_deflection(length, thickness, width, e, nu, -10.0, end, 0.001)

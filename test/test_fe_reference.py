@@ -1,4 +1,4 @@
-"""The 3D finite-element reference of the cantilever (sph_fsi_core.validation.fe_reference) against the stored table.
+"""The 3D finite-element reference of the cantilever (sph_fsi_core.answers.fe_reference) against the stored table.
 
 scikit-fem and scipy are optional for the core but pinned in requirements-dev.txt (which `make test` installs):
 when they are missing these tests fail, they do not skip. Runtime: ~15 s (one 1 mm and three 2 mm meshes).
@@ -7,9 +7,9 @@ import math
 
 import pytest
 
-from sph_fsi_core.validation.fe_reference import (cantilever_fe_frequency, euler_bernoulli_frequency,
+from sph_fsi_core.answers.fe_reference import (cantilever_fe_frequency, euler_bernoulli_frequency,
                                                   extrapolated_frequency)
-from sph_fsi_core.validation.references import read_reference_csv
+from sph_fsi_core.answers.references import read_reference_csv
 
 # The table's case (header of reference_data/cantilever_frequencies.csv).
 CASE = dict(thickness=0.004, width=0.006, young_modulus=1.859e6, poisson_ratio=0.49, density=1000.0)

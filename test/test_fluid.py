@@ -8,7 +8,7 @@ import pytest
 from sph_fsi_core.diagnostics import Diverged
 from sph_fsi_core.fluid.okaji import viscous_velocity, xz_periodic_marker
 from sph_fsi_core.fluid.stepper import FluidSolver
-from sph_fsi_core.numerics.kernels import cubic_spline_w
+from sph_fsi_core.numerics.kernels import cubic_spline_w, lattice_density_scale, lattice_kernel_sum
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import tank
 from sph_fsi_core.schema import SceneError
@@ -25,7 +25,7 @@ def _periodic_block(n, scale=1.0, jitter=0.0, seed=0):
     pos = tank.lattice(n, n, n, DP) * scale
     if jitter:
         pos += np.random.default_rng(seed).normal(0.0, jitter * DP, pos.shape)
-    fluid = FluidState.at_rest(pos, 1000.0, DP, mass_scale=tank.lattice_density_scale(RATIO))
+    fluid = FluidState.at_rest(pos, 1000.0, DP, mass_scale=lattice_density_scale(RATIO))
     period = np.full(3, n * DP * scale)
     return fluid, period
 
@@ -44,8 +44,8 @@ def test_lattice_kernel_sum_brute_force():
     r = np.arange(-4, 5)
     g = np.stack(np.meshgrid(r, r, r, indexing="ij"), axis=-1).reshape(-1, 3) * DP
     brute = sum(cubic_spline_w(float(np.sqrt((x * x).sum())), H) for x in g) * DP ** 3
-    assert tank.lattice_kernel_sum(RATIO) == pytest.approx(brute, rel=1e-13)
-    assert tank.lattice_kernel_sum(RATIO) == pytest.approx(0.99726, abs=1e-5)
+    assert lattice_kernel_sum(RATIO) == pytest.approx(brute, rel=1e-13)
+    assert lattice_kernel_sum(RATIO) == pytest.approx(0.99726, abs=1e-5)
 
 
 def test_summation_density_of_a_full_lattice_is_rho0():

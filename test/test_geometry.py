@@ -394,7 +394,7 @@ def test_the_hydrostatic_tank_from_two_boxes_holds_the_built_in_tanks_floor_pres
 
 
 def test_a_frequency_is_not_judged_on_less_than_a_period():
-    from sph_fsi_core.validation.judges import evaluate_judges
+    from sph_fsi_core.answers.judges import evaluate_judges
     values = load_scene(str(EXAMPLES / "cantilever_geometry.yaml")).values
     t = np.linspace(0.0, 0.03, 121)                    # half a period of 17.58 Hz
     out = evaluate_judges({"time": t, "tip_dz": np.sin(2 * np.pi * 17.58 * t)}, values)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.validation.oscillation import measure_frequency, period_averaged
+from sph_fsi_core.answers.oscillation import measure_frequency, period_averaged
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
@@ -168,7 +168,7 @@ def test_gradient_integration_brings_the_short_beam_towards_3d_elasticity(small_
     """12 x 3 x 4 mm at H/dp = 4. 3D elasticity (fe_reference, quadratic hexahedra): 186.80 Hz with 1 mm elements,
     184.41 Hz with 0.5 mm, converging from above. Measured: plain 165.0 Hz (-10.5 % against 184.4), gradient
     172.9 Hz (-6.2 %; this stubby beam, L/H = 3, shears as much as it bends, and the term corrects bending)."""
-    from sph_fsi_core.validation.fe_reference import cantilever_fe_frequency
+    from sph_fsi_core.answers.fe_reference import cantilever_fe_frequency
     fe = cantilever_fe_frequency(0.012, thickness=0.004, width=0.003, young_modulus=1.859e6, poisson_ratio=0.49,
                                  density=1000.0, element_size=1e-3)["vertical_hz"]
     plain, gradient = (small_beam[m][0]["frequency_hz"] for m in ("plain", "gradient"))

@@ -1,17 +1,17 @@
-"""numerics/jit_cache.py: telling a cold Numba cache from a warm one, so a first run says it is compiling."""
+"""jit_cache.py: telling a cold Numba cache from a warm one, so a first run says it is compiling."""
 import os
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-from sph_fsi_core.numerics import jit_cache
+from sph_fsi_core import jit_cache
 
 
 def test_empty_cache_is_cold(tmp_path):
     """With an empty NUMBA_CACHE_DIR no entry kernel has compiled code: False for every phase set (nothing compiles
     here: the index is read, not built)."""
-    code = ("from sph_fsi_core.numerics.jit_cache import kernels_cached; "
+    code = ("from sph_fsi_core.jit_cache import kernels_cached; "
             "print(kernels_cached(('solid',)), kernels_cached(('fluid', 'walls')), "
             "kernels_cached(('solid', 'fluid', 'walls', 'coupling')))")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
@@ -51,7 +51,7 @@ def _write_package(root, value):
     (pkg / "__init__.py").write_text(     # importing sph_fsi_core keyed the cache to its own sources: undone here
         "import os\n"
         "from pathlib import Path\n"
-        "from sph_fsi_core.numerics.jit_cache import use_source_keyed_cache\n"
+        "from sph_fsi_core.jit_cache import use_source_keyed_cache\n"
         "if os.environ.pop('KPKG_KEYED', None):\n"
         "    os.environ.pop('NUMBA_CACHE_DIR')\n"
         "    use_source_keyed_cache(Path(__file__).parent)\n")

@@ -8,7 +8,7 @@ import pytest
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.scenes import lobovsky_dam_break as lob
 from sph_fsi_core.simulation import Simulation
-from sph_fsi_core.validation.references import lobovsky_front
+from sph_fsi_core.answers.references import lobovsky_front
 
 COARSE = ["numerics.spacing=0.04", "fluid.settle_time=0"]     # H / 15, from zero pressure: a quick build
 

@@ -1,10 +1,10 @@
-"""Tests of sph_fsi_core.validation.oscillation on synthetic signals with known frequency and damping."""
+"""Tests of sph_fsi_core.answers.oscillation on synthetic signals with known frequency and damping."""
 import math
 
 import numpy as np
 import pytest
 
-from sph_fsi_core.validation.oscillation import FrequencyEstimate, damping_ratio, measure_frequency, period_averaged
+from sph_fsi_core.answers.oscillation import FrequencyEstimate, damping_ratio, measure_frequency, period_averaged
 
 F = 17.58  # Hz
 DT = 1.0 / 5000.0

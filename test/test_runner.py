@@ -205,7 +205,7 @@ def test_cold_cache_says_compiling_and_keeps_it_out_of_the_rate(tmp_path, monkey
     """With Numba's cache cold (here: said so) the runner logs that it compiles before the build, then how long the
     build and first step took, and starts its progress (rate, ETA) after that step."""
     import sph_fsi.runner as runner_module
-    from sph_fsi_core.numerics.jit_cache import COMPILING_LINE
+    from sph_fsi_core.jit_cache import COMPILING_LINE
     monkeypatch.setattr(runner_module, "scene_kernels_cached", lambda spec: False)
     settings = dict(node_defaults(), publish_period=PERIOD, out_dir=str(tmp_path / "run"))
     out, log = FakeOut(), Log()

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from sph_fsi.cli import main
-from sph_fsi_core.validation import references
-from sph_fsi_core.validation.references import (beam_theory_frequency, cantilever_mode_velocity, clamped_free_mode_kl,
+from sph_fsi_core.answers import references
+from sph_fsi_core.answers.references import (beam_theory_frequency, cantilever_mode_velocity, clamped_free_mode_kl,
                                      fe3d_frequency, plate_frequency_eq15, read_reference_csv)
 from sph_fsi_core.scene import defaults_yaml, load_scene
 from sph_fsi_core.scenes import BUILDERS, cantilever
@@ -178,7 +178,7 @@ def test_fe3d_nondimensional_table():
 @pytest.mark.slow
 def test_fe3d_computed_on_demand_and_cached(monkeypatch, tmp_path):
     """A shape no table lists: computed (three meshes, extrapolated), kept in the cache, read back from it."""
-    from sph_fsi_core.validation import fe_reference
+    from sph_fsi_core.answers import fe_reference
     monkeypatch.setenv("SPH_FSI_CACHE", str(tmp_path))
     args = (0.012, 0.004, 0.002, 1.859e6, 0.3, 1000.0)       # L / H = 3, W / H = 0.5
     fe, label = fe3d_frequency(*args)

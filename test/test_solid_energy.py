@@ -5,7 +5,7 @@ with a larger alpha, and without it the leapfrog keeps the energy of a free osci
 import numpy as np
 import pytest
 
-from sph_fsi_core.validation.oscillation import measure_frequency, period_averaged
+from sph_fsi_core.answers.oscillation import measure_frequency, period_averaged
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 

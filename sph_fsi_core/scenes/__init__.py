@@ -16,8 +16,10 @@ A scene whose phases and keys follow from its file (the geometry builder) also h
     list_params(flat)           the Params of its part, probe and judge lists (geometry/parts.py)
     resolve_files(values, path) its files' paths made absolute, relative to the scene file
 """
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
                dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
+from .built import check_layout, without_unreached_clamp
 
 BUILDERS = {"cantilever": cantilever, "clamped_plate": clamped_plate, "hydrostatic": hydrostatic,
             "dam_break": dam_break, "elastic_gate": elastic_gate, "antoci_gate": antoci_gate,
@@ -25,3 +27,18 @@ BUILDERS = {"cantilever": cantilever, "clamped_plate": clamped_plate, "hydrostat
             "antoci_gate_loaded": antoci_gate_loaded, "cantilever_loaded": cantilever_loaded,
             "lobovsky_dam_break": lobovsky_dam_break, "geometry": geometry}
 DEFAULT_SCENE = "cantilever"
+
+
+def build_scene(builder, values):
+    """A scene's particles as a run starts from them: `builder`'s (a name in BUILDERS) from `values`, checked
+    (built.check_layout: no overlapping bodies, nothing outside the domain), and with solid.clamp = mirrored
+    without the clamp's particles that no moving particle reaches (built.without_unreached_clamp). Returns
+    (Built, how many clamp particles were left out)."""
+    built = BUILDERS[builder].build(values)
+    check_layout(built, values["numerics.spacing"])
+    if built.solid is None or values["solid.clamp"] != "mirrored" or built.clamp_mirror is None:
+        return built, 0
+    spacing = values["numerics.spacing"]
+    h = values["numerics.smoothing_ratio"] * spacing
+    return without_unreached_clamp(built, SUPPORT_RADIUS_IN_H * h + spacing, values.get("fluid.density", 0.0),
+                                   lattice_density_scale(values["numerics.smoothing_ratio"]))

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ..probes import ProbeSpec
-from ..validation.references import antoci_gate_tip
+from ..answers.references import antoci_gate_tip
 from . import gate
 from .gate import CONSERVATIVE, PHASES, particle_counts, sample, sample_fluid  # noqa: F401  (builder interface)
 

@@ -5,7 +5,7 @@ closed (the free end stands on the floor, so no water passes) and gravity reduce
 pushes the free end about 5 % of the gate's length (3.9 mm against FE; 38 mm at 9.81, far beyond a linear
 reference). Settled, the free end deflects as under the water's hydrostatic pressure rho_f g (H - z) on its wet
 face: the answer of scenes/antoci_gate_loaded.py (the same gate under that pressure directly) and of plane-strain
-FE of the free length (validation/fe_reference.py). The three together separate the load transfer (coupled against
+FE of the free length (answers/fe_reference.py). The three together separate the load transfer (coupled against
 loaded) from the gate's bending with 3-4 particles through it (loaded against FE).
 
 Settling, as scenes/hydrostatic_plate.py: the gate's mass-proportional damping (`damping_ratio` of its first dry

@@ -15,8 +15,8 @@ import math
 
 import numpy as np
 
-from ..validation.oscillation import damping_ratio, measure_frequency, period_averaged
-from ..validation.references import cantilever_mode_velocity, cantilever_references
+from ..answers.oscillation import damping_ratio, measure_frequency, period_averaged
+from ..answers.references import cantilever_mode_velocity, cantilever_references
 from ..schema import Param, SceneError
 from ..state import Probe, SolidState
 from .built import Built, clamp_mirror_across

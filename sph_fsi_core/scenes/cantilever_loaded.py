@@ -9,7 +9,7 @@ Antoci's gate, whose free end opens 36-46 mm over 79 mm), or a force P on the fr
 P L^2 / (E I): at alpha = 2, 0.49 L and 45 degrees). Measured: both schemes lose the loaded tip layer at
 alpha = 2 on a beam of L/H = 5 (it tears off the beam: a concentrated dead load on one particle layer), so the
 distributed load is the case. Judged on the settled free end (the tip layer's mean over the last quarter) against
-the elastica of the same load (validation/references.py: Euler-Bernoulli with exact rotation, no shear), its
+the elastica of the same load (answers/references.py: Euler-Bernoulli with exact rotation, no shear), its
 vertical and horizontal displacement; a tip load acts on the last layer's centres, dp/2 short of the free end, so
 its reference is the elastica of length L - dp/2 under the same P. What a 3D beam of L/H = 10 adds to the elastica (shear,
 the width's bending stiffness, the clamp) is about the same at every load, so the change of the error from the
@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from ..schema import Param
-from ..validation.references import beam_theory_frequency, elastica_tip
+from ..answers.references import beam_theory_frequency, elastica_tip
 from . import cantilever
 from .cantilever import particle_counts  # noqa: F401  (builder interface)
 
@@ -96,7 +96,7 @@ def evaluate(series, values):
            "elastica_pull_back_m": ref["pull_back"] * arm, "elastica_tip_rotation_deg": math.degrees(ref["rotation"]),
            "linear_deflection_over_length": values["geometry.load_parameter"] / (8.0 if distributed else 3.0),
            "reference": "the elastica (Euler-Bernoulli, exact rotation, no shear) under the same dead load, "
-                        "alpha = q L^3 / (E I) or P L^2 / (E I), I = W H^3 / 12 (validation/references.py: "
+                        "alpha = q L^3 / (E I) or P L^2 / (E I), I = W H^3 / 12 (answers/references.py: "
                         "elastica_tip)",
            "error_metric": "relative error of the settled free end's vertical deflection against the elastica's"}
     error = measured_down / (ref["deflection"] * arm) - 1.0

@@ -15,7 +15,7 @@ the static answer; both only shorten the way to it.
 
 Probe 'midspan': the movable particles nearest mid-span and mid-thickness (two columns and two layers when the
 layer counts are even). Judged on its mean vertical displacement over the last 25 % of the run against the
-project's plane-strain FE value for the same plate and load (validation/fe_reference.py).
+project's plane-strain FE value for the same plate and load (answers/fe_reference.py).
 
 `geometry.supports = clamped_free`: the same strip clamped at x = 0 only, a cantilever free at x = L (no clamp
 beyond it). Probe 'free_end': the last column's particles nearest mid-thickness (x = L - dp / 2), judged against
@@ -182,7 +182,7 @@ def evaluate(series, values, settled_fraction=SETTLED_FRACTION):
     end's with geometry.supports = clamped_free (evaluate_free_end)."""
     if _free_end(values):
         return evaluate_free_end(series, values, settled_fraction)
-    from ..validation.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
+    from ..answers.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
     t = series["time"]
     settled = t >= t[-1] * (1.0 - settled_fraction)
     w = series["midspan_dz"][settled]
@@ -208,14 +208,14 @@ def evaluate(series, values, settled_fraction=SETTLED_FRACTION):
     reference = fe["midspan_deflection_m"]
     error = (deflection - reference) / reference
     return {**out, "reference_midspan_deflection_m": reference,
-            "reference": "plane-strain FE, biquadratic quadrilaterals, t / 8 (validation/fe_reference.py)",
+            "reference": "plane-strain FE, biquadratic quadrilaterals, t / 8 (answers/fe_reference.py)",
             "error_signed": error, "error": abs(error)}
 
 
 def evaluate_free_end(series, values, settled_fraction=SETTLED_FRACTION):
     """A cantilever's free-end deflection (x = L - dp / 2, mid-thickness), settled, against plane-strain FE at the
     same point; the beam value (Euler-Bernoulli, at x = L) beside it."""
-    from ..validation.fe_reference import cantilever_strip_fe_deflection
+    from ..answers.fe_reference import cantilever_strip_fe_deflection
     t = series["time"]
     settled = t >= t[-1] * (1.0 - settled_fraction)
     w = series["free_end_dz"][settled]
@@ -247,5 +247,5 @@ def evaluate_free_end(series, values, settled_fraction=SETTLED_FRACTION):
     error = (deflection - reference) / reference
     return {**out, "reference_free_end_deflection_m": reference,
             "reference": f"plane-strain FE, biquadratic quadrilaterals of {element:g} m at x = L - dp / 2 "
-                         "(validation/fe_reference.py)",
+                         "(answers/fe_reference.py)",
             "error_signed": error, "error": abs(error)}

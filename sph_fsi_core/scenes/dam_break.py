@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..validation.references import martin_moyce_front
+from ..answers.references import martin_moyce_front
 from ..schema import Param
 from . import tank
 from .hydrostatic import check_walls_and_span

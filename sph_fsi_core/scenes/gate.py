@@ -19,6 +19,7 @@ import math
 
 import numpy as np
 
+from ..numerics.kernels import lattice_density_scale
 from ..schema import Param, SceneError
 from ..state import FluidState, Probe, SolidState, WallState
 from . import tank
@@ -133,7 +134,7 @@ def build(values):
     c = layer_counts(values)
     nt, nl, ng, nc, na, nh, nd, nw, ny = (c[k] for k in ("nt", "nl", "ng", "nc", "na", "nh", "nd", "nw", "ny"))
     rho0 = values["fluid.density"]
-    scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
+    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
     layers = values["geometry.wall_layers"]
     # gate: free part then the clamp above it
     gate = tank.lattice(nt, ny, nl + nc, dp, offset=(0.0, 0.0, ng * dp))
@@ -258,13 +259,13 @@ def hydrostatic_gate_load(level, values):
 def static_tip_reference(values, water_density, gravity):
     """The static deflection (m, + along the water's push) where the 'tip' probe sits, under the hydrostatic
     pressure of the water at rest, p = rho_f g (H - z), on the wet face of the free length, and the gate's own
-    weight along it: plane-strain FE of the built gate (validation/fe_reference.py), with the Euler-Bernoulli value
+    weight along it: plane-strain FE of the built gate (answers/fe_reference.py), with the Euler-Bernoulli value
     of the same load beside it.
 
     The probe is the lowest particle layer, whose centres sit half a spacing above the body's free end: the FE is
     read there, at mid-thickness, not at the end itself (the slope there, 4/3 of the deflection over L, makes the
     difference 1.4 % at 3 particles through). Elements of dp / 4 put a node on that point."""
-    from ..validation.fe_reference import cantilever_strip_fe_deflection
+    from ..answers.fe_reference import cantilever_strip_fe_deflection
     g = effective_geometry(values)
     length, thickness, clearance = g["gate_free_length_m"], g["gate_thickness_m"], g["gate_clearance_m"]
     dp = values["numerics.spacing"]
@@ -312,6 +313,6 @@ def evaluate_static(series, values, water_density, gravity, settled_fraction=0.2
             "beam_tip_deflection_m": ref["beam_tip_deflection_m"],
             "fe_free_end_deflection_m": ref["fe_free_end_deflection_m"],
             "reference": "plane-strain FE of the free length, biquadratic quadrilaterals of dp / 4, read at the "
-                         "probe's layer (half a spacing above the free end), mid-thickness (validation/fe_reference.py)",
+                         "probe's layer (half a spacing above the free end), mid-thickness (answers/fe_reference.py)",
             "tip_deflection_over_length": measured / effective_geometry(values)["gate_free_length_m"],
             "error_signed": error, "error": abs(error)}

@@ -14,20 +14,21 @@ Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometr
 those its shape holds by its role (geometry/fill.py). Parts may not share a site; a solid needs three particle
 layers through for the quadratic fit (the default scheme's). The phases follow from the parts (geometry/parts.py):
 a scene without a solid part has no solid arrays, passes, topics or channels. Probes (probes.py) and judges
-(validation/judges.py) are declared beside the parts; the summary reports each judge's measure and error.
+(answers/judges.py) are declared beside the parts; the summary reports each judge's measure and error.
 """
 import numpy as np
 
+from ..answers.judges import check_judges, evaluate_judges
+from ..answers.references import cantilever_mode_velocity
 from ..geometry.fill import estimated_sites, part_sites, parts_of, resolve_files  # noqa: F401  (builder interface)
 from ..geometry.lattice import Lattice, dilate, site_keys
 from ..geometry.parts import list_entries, list_params, phases_of  # noqa: F401  (builder interface)
+from ..numerics.kernels import lattice_density_scale
 from ..probes import ProbeSpec, probe_columns
 from ..schema import Param, SceneError
 from ..state import FluidState, SolidState, WallState
-from ..validation.judges import check_judges, evaluate_judges
-from ..validation.references import cantilever_mode_velocity
 from .built import Built, clamp_mirror_across
-from .tank import WATER_STARTS, bottom_compression, compress_column, lattice_density_scale
+from .tank import WATER_STARTS, bottom_compression, compress_column
 
 PHASES = ("solid", "fluid", "walls", "coupling")   # the most a geometry scene has; its own: phases_of(its keys)
 CONSERVATIVE = False
@@ -347,5 +348,5 @@ def _probes(values, built, index):
 
 
 def evaluate(series, values):
-    """The scene's judges (validation/judges.py): each one's measure, reference and error; `error` is the first's."""
+    """The scene's judges (answers/judges.py): each one's measure, reference and error; `error` is the first's."""
     return evaluate_judges(series, values)

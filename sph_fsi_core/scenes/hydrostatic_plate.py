@@ -23,13 +23,14 @@ dry mode's critical damping), the water's velocities at the rate 2 zeta omega_b 
 
 Probe 'midspan': the movable particles nearest mid-span and mid-thickness, as clamped_plate's. Judged on its mean
 vertical displacement over the last half of the run against the project's plane-strain FE value for the same
-plate under rho_f g H and its own weight (validation/fe_reference.py), with the beam value beside it, and on the
+plate under rho_f g H and its own weight (answers/fe_reference.py), with the beam value beside it, and on the
 water's total vertical force on the plate against rho_f g H L W (the weight of the column, exact at rest).
 """
 import math
 
 import numpy as np
 
+from ..numerics.kernels import lattice_density_scale
 from ..schema import Param, SceneError
 from ..state import FluidState, SolidState, WallState
 from . import clamped_plate, tank
@@ -111,7 +112,7 @@ def build(values):
     solid = SolidState.at_rest(plate, movable, values["solid.density"], dp)
 
     rho0 = values["fluid.density"]
-    scale = tank.lattice_density_scale(values["numerics.smoothing_ratio"])
+    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
     water = tank.lattice(nx, ny, nh, dp, offset=(0.0, 0.0, thickness))
     side = tank.lattice(layers, ny, nw, dp, offset=(-layers * dp, 0.0, thickness))
     walls = np.concatenate([side, side + np.array([span + layers * dp, 0.0, 0.0])])

@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..schema import Param
-from ..validation.references import lobovsky_front
+from ..answers.references import lobovsky_front
 from . import tank
 from .dam_break import front_position
 from .hydrostatic import check_walls_and_span

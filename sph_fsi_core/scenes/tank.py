@@ -9,26 +9,8 @@ import math
 
 import numpy as np
 
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
+from ..numerics.kernels import lattice_density_scale
 from ..schema import SceneError
-
-
-def lattice_kernel_sum(smoothing_ratio):
-    """sum_b dp^3 W(|r_b|, h) over a full cubic lattice of spacing dp (dp = 1 here): 0.99726 at h/dp = 1.3.
-
-    The radial M4 kernel is not a partition of unity on a lattice, so a lattice of mass rho0 dp^3 would sit
-    0.27 % below rho0 (and first compress by that much before any pressure acts)."""
-    reach = int(np.ceil(SUPPORT_RADIUS_IN_H * smoothing_ratio)) + 1
-    r = np.arange(-reach, reach + 1, dtype=np.float64)
-    g = np.stack(np.meshgrid(r, r, r, indexing="ij"), axis=-1).reshape(-1, 3)
-    d = np.sqrt((g * g).sum(axis=1))
-    return float(sum(cubic_spline_w(x, smoothing_ratio) for x in d))
-
-
-def lattice_density_scale(smoothing_ratio):
-    """Factor on rho0 dp^3 that makes the summation density (1) of a full lattice exactly rho0: fluid and wall
-    particles carry mass rho0 dp^3 / lattice_kernel_sum."""
-    return 1.0 / lattice_kernel_sum(smoothing_ratio)
 
 
 def breathing_period(height, gravity, tolerance):

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
 from ..numerics.neighbours import NeighbourList, pair_kernel_values
-from ..schema import SceneError
+from ..errors import SceneError
 from .fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .gradient_integration import gradient_strain_energy
 from .gray2001 import material_constants, strain_energy

@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .fe_reference import cantilever_beam_deflection, clamped_plate_beam_deflection, displacement_at, strip_static
+from ..answers.fe_reference import (cantilever_beam_deflection, clamped_plate_beam_deflection, displacement_at,
+                                    strip_static)
 
 ELEMENTS_THROUGH = 16
 
@@ -76,7 +77,7 @@ def beam_terms(values, probe_points, cache=None):
     as the scene places them (the section centred on y = z = 0)."""
     import json
     from ..scenes.cantilever_loaded import total_load
-    from .fe_reference import cantilever_fe_static_deflection
+    from ..answers.fe_reference import cantilever_fe_static_deflection
     length, thickness, width = (values[f"geometry.{k}"] for k in ("length", "thickness", "width"))
     e, nu, dp = values["solid.young_modulus"], values["solid.poisson_ratio"], values["numerics.spacing"]
     force = total_load(values)

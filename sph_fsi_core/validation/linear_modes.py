@@ -334,7 +334,7 @@ def cantilever_frequency(overrides=(), weights="corrected_kernel", hourglass_alp
     beam's 3D FE reference: a dict. `clamp` fixed (its particles at rest, storing energy; the scene's
     geometry.clamp_margin) or mirrored (the ghosts following their images, storing none); `nodal_integration`
     gradient adds the strain-gradient term (with the quadratic fit): the default scheme, quadratic_gradient."""
-    from .references import cantilever_references
+    from ..answers.references import cantilever_references
     v, built = _built("cantilever", overrides, clamp)
     solid = built.solid
     k, clamp_map = _built_stiffness(v, built, clamp, weights=weights, hourglass_alpha=hourglass_alpha,
@@ -401,7 +401,7 @@ def clamped_plate_deflection(overrides=(), **kw):
     as the scene judges it: mid-span clamped at both ends, the free end's probe (x = L - dp / 2) with
     geometry.supports = clamped_free: a dict."""
     from ..scenes import clamped_plate
-    from .fe_reference import cantilever_strip_fe_deflection, clamped_plate_fe_deflection
+    from ..answers.fe_reference import cantilever_strip_fe_deflection, clamped_plate_fe_deflection
     u, built, v = static_displacement("clamped_plate", overrides, **kw)
     deflection = float(u[built.probes[0].indices, 2].mean())
     span, thickness, dp = v["geometry.span"], v["geometry.thickness"], v["numerics.spacing"]

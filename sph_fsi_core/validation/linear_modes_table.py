@@ -57,7 +57,7 @@ def report():
              "(the cantilever scene, its clamp's particles fixed) and solves K phi = omega^2 M phi for its lowest "
              "modes (validation/linear_modes.py): the frequency its time stepping converges to at small amplitude "
              "and step. Wall: assembly and eigensolve, one core. The 3D FE reference of each beam: "
-             "validation/references.py (the project's extrapolated meshes).", "",
+             "answers/references.py (the project's extrapolated meshes).", "",
              "## Cross-check: the quadratic fit's plain sum against its time-stepped runs", "",
              "The fixed clamp with its 5-layer margin, as `solid.scheme: quadratic_plain` ran "
              "(docs/validation/studies/schemes/REPORT.md, cantilever_plain_ladder and cantilever_plain_length).", "",

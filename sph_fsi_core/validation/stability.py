@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from . import DEFAULT_OUT_DIR
-from .references import beam_theory_frequency
+from ..answers.references import beam_theory_frequency
 
 BEAM_LENGTH = 0.02
 

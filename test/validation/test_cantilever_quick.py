@@ -13,7 +13,7 @@ import pytest
 
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.validation.references import read_reference_csv
+from sph_fsi_core.answers.references import read_reference_csv
 from sph_fsi_core.validation.ladder import main as validate
 
 

@@ -14,7 +14,7 @@ import json
 
 import pytest
 
-from sph_fsi_core.validation.references import martin_moyce_front
+from sph_fsi_core.answers.references import martin_moyce_front
 from sph_fsi_core.validation.ladder import main as validate
 
 

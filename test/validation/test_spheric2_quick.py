@@ -3,7 +3,7 @@ first impact (0-0.6 s) in CI: the water leaves the reservoir as measured (H4), r
 and P3's onsets) and piles up in front of it (H2). The whole 0-6 s ladder at three spacings, with its wall times:
 docs/validation/REPORT.md (`sph-fsi validate spheric2`, in the default suite).
 
-Measured at this rung over 0-0.8 s (the bounds hold to 0.6 s) (the judges' own measures, validation/judges.py): H4 RMS 0.011 m; P1's onset
+Measured at this rung over 0-0.8 s (the bounds hold to 0.6 s) (the judges' own measures, answers/judges.py): H4 RMS 0.011 m; P1's onset
 (the 5 ms-averaged series' first 1 kPa) 0.016 s after the measured 0.393 s, P3's 0.000 s from the measured 0.424 s.
 """
 import numpy as np

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..references import antoci_gate_tip
+from ...answers.references import antoci_gate_tip
 from ..report_tools import save_panels, series_rows
 from ..rung import Rung
 

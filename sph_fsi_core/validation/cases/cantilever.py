@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..references import read_reference_csv
+from ...answers.references import read_reference_csv
 from ..report_tools import fmt, save_panels, series_rows
 from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
@@ -13,7 +13,7 @@ from .as_run import EXPLICIT_PRESSURE
 
 def cantilever_end_time(overrides, periods):
     """`periods` periods of the 3D reference frequency of the beam the overrides make (the scene's defaults else)."""
-    from ..references import cantilever_references
+    from ...answers.references import cantilever_references
     beam = {"geometry.length": 0.04, "geometry.thickness": 0.004, "geometry.width": 0.006,
             "solid.young_modulus": 1.859e6, "solid.poisson_ratio": 0.49, "solid.density": 1000.0}
     beam.update({k: v for k, v in overrides.items() if k in beam})

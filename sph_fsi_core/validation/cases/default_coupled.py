@@ -30,9 +30,9 @@ FINEST = "paper_gate/through_6"              # the paper's gate's reference: its
 
 MEASURES = {
     "water_plate": ("settled mid-span deflection under 2 m of water", "plane-strain FE under rho_f g H "
-                                                                      "(validation/fe_reference.py)"),
+                                                                      "(answers/fe_reference.py)"),
     "antoci_loaded": ("settled free end under the exact water pressure", "plane-strain FE of the gate "
-                                                                         "(validation/fe_reference.py)"),
+                                                                         "(answers/fe_reference.py)"),
     "antoci_static": ("settled free end under its water at rest", "the same FE under rho_f g H"),
     "antoci": ("free-end x displacement, RMS over 0-0.4 s / peak", "Antoci et al. 2007's experiment "
                                                                    "(reference_data/antoci2007_exp_gate_tip_x.csv)"),

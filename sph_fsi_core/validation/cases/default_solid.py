@@ -5,10 +5,10 @@ have no water.
                   against the project's 3D FE (reference_data/cantilever_fe3d_nondimensional.csv)
     beam_grid     the beam at nu 0.3 / 0.4 / 0.49 and L / H 10 / 20 / 30, 4 through: the same reference
     elastica      the beam settled under a distributed dead load, alpha = q L^3 / (E I) 0.05, 2, 4: free end against
-                  the elastica (validation/references.py)
+                  the elastica (answers/references.py)
     plate_fe      a clamped-clamped plate under a prescribed water pressure (the hydrostatic-plate benchmark's plate,
                   no water) at 4, 6, 8 through: settled mid-span deflection against plane-strain FE
-                  (validation/fe_reference.py)
+                  (answers/fe_reference.py)
 
 Every rung runs the scenes' defaults (solid.scheme quadratic_gradient, the mirrored clamp, the implicit pressure);
 only the case's own lengths, material and resolution are set. Each scene judges its run (scenes/*.py evaluate).
@@ -33,9 +33,9 @@ MEASURES = {
                                                "extrapolated; reference_data/cantilever_fe3d_nondimensional.csv)"),
     "beam_grid": ("first vertical frequency", "3D FE of each shape and nu (same table)"),
     "elastica": ("settled free-end deflection under a dead load", "the elastica (Bisshopp & Drucker 1945; "
-                                                                  "validation/references.py)"),
+                                                                  "answers/references.py)"),
     "plate_fe": ("settled mid-span deflection under rho g H", "plane-strain FE, biquadratic, t / 8 "
-                                                             "(validation/fe_reference.py)"),
+                                                             "(answers/fe_reference.py)"),
 }
 
 

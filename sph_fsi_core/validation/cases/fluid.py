@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..references import lobovsky_front, read_reference_csv
+from ...answers.references import lobovsky_front, read_reference_csv
 from ..report_tools import fmt, save_panels, series_rows
 from ..rung import Rung
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ...scenes.elastic_gate import PAPER_GATE_WIDTH_M
-from ..references import read_reference_table
+from ...answers.references import read_reference_table
 from ..report_tools import save_panels, series_rows
 from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE, PAPER_SPAN
@@ -181,7 +181,7 @@ def _free_end_plots(out_dir, rungs, summaries, plt):
     made = []
     runs = [r for r in rungs if r.scene == "antoci_gate" and r.key in summaries]
     if runs:
-        from ..references import antoci_gate_tip
+        from ...answers.references import antoci_gate_tip
         fig, axes = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
         for ax, comp, col in ((axes[0], "x", "tip_dx"), (axes[1], "z", "tip_dz")):
             te, ye = antoci_gate_tip(comp)

@@ -48,7 +48,7 @@ def table(out_dir, rungs, summaries):
             "The paper's beam (4 x 6 mm section, 4 particles through) at rest under a distributed dead load q along "
             "its length, alpha = q L^3 / (E I), settled by damping (scenes/cantilever_loaded.py). The free end's "
             "settled deflection (down) against the elastica of the same load (Euler-Bernoulli with exact rotation, no "
-            "shear; validation/references.py, checked against Bisshopp & Drucker 1945); pull-back: how far the free "
+            "shear; answers/references.py, checked against Bisshopp & Drucker 1945); pull-back: how far the free "
             "end moves towards the clamp, against the elastica's. L/H = 10 except `short_*` (L/H = 5, the CI rung). "
             "What the 3D beam adds to the elastica (shear, the width, the clamp) is about the same at every load: the "
             "change of the error from alpha = 0.05 (linear) to 2 and 4 (the free end turning 18 and 34 degrees, the "

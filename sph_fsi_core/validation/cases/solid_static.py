@@ -49,6 +49,6 @@ def table(out_dir, rungs, summaries):
     return grid_table("## The solid alone under a prescribed load (solid_static)",
                  "The hydrostatic-plate benchmark's plate (1 m x 0.05 m aluminium, clamped at both ends, plane strain) "
                  "under the water's exact pressure and its own weight, settled; the mid-span, mid-thickness deflection "
-                 "against the project's plane-strain FE value (validation/fe_reference.py). + is softer than FE. "
+                 "against the project's plane-strain FE value (answers/fe_reference.py). + is softer than FE. "
                  "Wall time in brackets.", "scheme", [(x, x) for x in schemes],
                  [(f"t/dp = {n}", n) for n in layers], cell)

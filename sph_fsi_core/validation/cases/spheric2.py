@@ -1,7 +1,7 @@
 """SPHERIC test 2 (config/spheric2_dam_break.yaml: MARIN's 3D dam break onto a box, Kleefsman et al. 2005) as a
 validation case: its rungs, its table and its plot, in one place.
 
-The scene judges itself (validation/judges.py): the water heights H2 and H4 by their RMS difference from the
+The scene judges itself (answers/judges.py): the water heights H2 and H4 by their RMS difference from the
 measurement over 0-6 s (goal 0.03 m, no time shift), the pressures P1 and P3 on the box's face by their impact's onset
 (the first time each 5 ms-averaged series reaches 1 kPa; goal within 0.01 s of the measured) and their peak after it
 (goal within 20 %). The rungs take 20, 25 and 30 particles through the column's 0.55 m depth, the 0.55 m a whole
@@ -73,7 +73,7 @@ def table(out_dir, rungs, summaries):
 def plot(out_dir, rungs, summaries, plt):
     """spheric2.png: each rung's H2, H4, P1 and P3 beside the measurement (the pressures 5 ms-averaged, as judged,
     over the first impact; the heights over 0-6 s)."""
-    from ..judges import centred_mean, read_measurement
+    from ...answers.judges import centred_mean, read_measurement
     runs = [(r, series_rows(out_dir, r)) for r in rungs if r.case == CASE and r.key in summaries]
     runs = [(r, rows) for r, rows in runs if rows is not None]
     if not runs:

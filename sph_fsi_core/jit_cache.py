@@ -20,7 +20,7 @@ import sys
 import time
 from pathlib import Path
 
-PACKAGE_DIR = Path(__file__).resolve().parents[1]
+PACKAGE_DIR = Path(__file__).resolve().parent
 _KERNEL = re.compile(r"^@njit\b", re.MULTILINE)
 # how many caches of other source versions are kept beside the current one (the most recently used)
 KEEP_OTHER_VERSIONS = 3
@@ -106,13 +106,13 @@ def _entry_kernels(phases, fitted_solid=True):
     solid's is its scheme's driver (fitted_solid: solid.velocity_gradient = quadratic)."""
     kernels = []
     if "solid" in phases:
-        from ..solid.stepper import fitted_leapfrog, sph_leapfrog
+        from .solid.stepper import fitted_leapfrog, sph_leapfrog
         kernels.append(fitted_leapfrog if fitted_solid else sph_leapfrog)
     if "fluid" in phases:
-        from ..fluid.stepper import correction_loop
+        from .fluid.stepper import correction_loop
         kernels.append(correction_loop)
     if "coupling" in phases:
-        from ..coupling import pressure_force_on_solid
+        from .coupling import pressure_force_on_solid
         kernels.append(pressure_force_on_solid)
     return kernels
 

@@ -1,6 +1,6 @@
 """A geometry scene's judges: how its time series is held against a reference, declared in the scene file.
 
-    frequency  the dominant frequency of a column (validation/oscillation.measure_frequency) against `reference` Hz
+    frequency  the dominant frequency of a column (answers/oscillation.measure_frequency) against `reference` Hz
     mean       the column's mean over [from, to] against `reference`
     series     the column (times `scale`) against a measured series in a CSV file, over [from, to]: the RMS of the
                difference (the simulated series interpolated at the measurement's times), the time shift that
@@ -14,7 +14,7 @@ Each judge reports its measures, its error (relative: to the reference for a fre
 RMS over the measured series' range in the window, the RMS itself in the column's unit beside it) and, where the
 scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
 A measurement file is a CSV with '#' comment lines and a header row, time (s) in its first column; a path relative to
-the scene file, or `reference_data:<name>` for the package's copies (validation/reference_data, with their sources).
+the scene file, or `reference_data:<name>` for the package's copies (answers/reference_data, with their sources).
 """
 import csv
 import io

@@ -2,7 +2,7 @@
 a clamped-free beam, f H / sqrt(E / rho), for the shapes and Poisson ratios the validation cases run
 (fe_reference.cantilever_fe_nondimensional; a few minutes on one core).
 
-    python -m sph_fsi_core.validation.cantilever_fe_table
+    python -m sph_fsi_core.answers.cantilever_fe_table
 
 Any other shape is computed when a run needs it and kept in the user's cache (references.fe3d_frequency).
 """
@@ -22,8 +22,8 @@ def main():
     header = ("# The project's 3D FE: first vertical bending frequency of a beam L x W x H clamped on its whole x = 0 "
               "face, as f H / sqrt(E / rho); scikit-fem, triquadratic hexahedra of H/"
               + ", H/".join(str(n) for n in CANTILEVER_FE_DIVISIONS)
-              + ", extrapolated to zero size (sph_fsi_core/validation/fe_reference.py, cantilever_fe_nondimensional). "
-              "Made by: python -m sph_fsi_core.validation.cantilever_fe_table")
+              + ", extrapolated to zero size (sph_fsi_core/answers/fe_reference.py, cantilever_fe_nondimensional). "
+              "Made by: python -m sph_fsi_core.answers.cantilever_fe_table")
     lines = [header, ",".join(FE3D_TABLE_COLUMNS)]
     for nu in POISSON_RATIOS:
         for ratio in LENGTHS_OVER_THICKNESS:
