@@ -112,7 +112,7 @@ def _entry_kernels(phases, fitted_solid=True):
         from .fluid.stepper import correction_loop
         kernels.append(correction_loop)
     if "coupling" in phases:
-        from .coupling import pressure_force_on_solid
+        from .coupling.forces import pressure_force_on_solid
         kernels.append(pressure_force_on_solid)
     return kernels
 

@@ -15,7 +15,7 @@ A probe has a name, a kind and its time-series columns:
                   The column standing on the floor, as a wave gauge is wetted: a jet or spray above air is not
                   counted
     force         `<name>_fx, _fy, _fz` N: the water's force on a part: on a wall, the pressure pair forces of the
-                  fluid step's correction (its accumulated pressures at its end positions, fluid.stepper
+                  fluid step's correction (its accumulated pressures at its end positions, fluid.solver
                   FluidSolver.wall_forces); on a solid, the coupling's push on the part's particles; each fluid
                   step's averaged over the outer step
 

@@ -259,7 +259,7 @@ FLUID = [
        low_inclusive=False, high=10.0, rebuild=False),
 ]
 
-# Fluid-structure coupling (Satake et al. sec. 2.3; coupling.py). Only scenes with both a solid and a fluid.
+# Fluid-structure coupling (Satake et al. sec. 2.3; coupling/). Only scenes with both a solid and a fluid.
 COUPLING = [
     _p("coupling.model", "pressure", "",
        "Fluid's push on the solid: 'pressure' equal and opposite pressure pair forces (momentum-conserving; the "

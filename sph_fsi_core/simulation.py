@@ -2,7 +2,7 @@
 
 `step()` advances one outer step, one time-series interval. The solid takes it as an integer number of solid steps
 no larger than the stable step; the loop over solid steps runs compiled (solid.stepper.fitted_leapfrog or
-sph_leapfrog, the scheme's). The fluid takes it as whole fluid steps (fluid.stepper.FluidSolver.step), each no
+sph_leapfrog, the scheme's). The fluid takes it as whole fluid steps (fluid.solver.FluidSolver.step), each no
 larger than its stable step, the last ones shortened evenly so the interval ends on a step. After every outer step
 the watchdog checks the state, so a run that goes wrong stops within one outer step with a diagnosis and nothing
 non-finite ever leaves the simulator. Phases a scene does not have are None and cost nothing: no arrays, lists or
@@ -13,10 +13,10 @@ import time as _time
 
 import numpy as np
 
-from .coupling import Coupling
+from .coupling.solver import Coupling
 from .diagnostics import Diverged, Watchdog, kinetic_energy
 from .probes import ProbeSet, probe_columns
-from .fluid.stepper import FluidSolver
+from .fluid.solver import FluidSolver
 from .scene import SceneError, SceneSpec
 from .state import WallState
 from .scenes import BUILDERS, build_scene
@@ -117,7 +117,7 @@ class Simulation:
         self._interval_stats = {}
         self._interval_push = np.zeros(3)   # the water's push on the solid, N, averaged over the last outer step
         self._fluid_dt_clamped = False
-        self.coupling = None   # only with both a solid and a fluid (coupling.py)
+        self.coupling = None   # only with both a solid and a fluid (coupling/)
         self.settled = None    # what the settling phase did (fluid.settle_time > 0), for the summary
         self._gate_in_walls = False
         if self.fluid is not None:
@@ -407,7 +407,7 @@ class Simulation:
         self._advance_solid(n, fluid_dt / n, ext)
 
     def stable_fluid_dt(self):
-        """The fluid's stable step (fluid.stepper.FluidSolver.stable_dt)."""
+        """The fluid's stable step (fluid.solver.FluidSolver.stable_dt)."""
         return self.fluid_solver.stable_dt(self.spec["fluid.cfl"])
 
     def _fluid_dt(self, at_time):

@@ -1,11 +1,11 @@
-"""Fluid-structure coupling (coupling.py): phases, surface normals, the seed push's direction, pressure pair forces
+"""Fluid-structure coupling (coupling/): phases, surface normals, the seed push's direction, pressure pair forces
 that sum to zero, the sub-step ratio, and the solid as a moving wall of the fluid."""
 import math
 
 import numpy as np
 import pytest
 
-from sph_fsi_core.coupling import Coupling
+from sph_fsi_core.coupling.solver import Coupling
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 

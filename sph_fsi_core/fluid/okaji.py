@@ -3,11 +3,11 @@
 Each function is one pass over the fluid particles (targets) and their neighbours: fluid neighbours from a half
 list (each pair once, b > a, the particle's own pair not listed), evaluated once per pair and added to both
 particles through per-chunk buffers `buf` (chunks, N, 3) (no write races under prange; a second loop sums the
-chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. The step driver
-that calls them in order is fluid/stepper.py. Their `xz_periodic` argument (xz_periodic_marker) says whether the
-pair loops take the minimum image along y only or along every axis; along y only, a target whose `crossing` flag
-is off (fluid.neighbours.FluidNeighbourList.crossing: its pairs stay within half a period of each other as
-stored) skips it too, which gives the same bits.
+chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. What calls
+them in order: fluid/stepper.py (the correction loop) and fluid/solver.py (the step). Their `xz_periodic` argument
+(xz_periodic_marker) says whether the pair loops take the minimum image along y only or along every axis; along y
+only, a target whose `crossing` flag is off (fluid.neighbours.FluidNeighbourList.crossing: its pairs stay within
+half a period of each other as stored) skips it too, which gives the same bits.
 
 Choices where the paper is open (docs/method.md, "Fluid"):
 

@@ -79,7 +79,7 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
 
     The body's sums are the same, but the solid passes and the water's wall sums add in another order: the answers
     move by round-off (docs/method.md, "The clamp")."""
-    from ..coupling import solid_wall_mass
+    from ..coupling.forces import solid_wall_mass
     from ..numerics.neighbours import NeighbourList
     solid = built.solid
     fixed = np.flatnonzero(~solid.movable)

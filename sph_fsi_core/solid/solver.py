@@ -1,6 +1,6 @@
 """The elastic solid's solver: its settings, neighbour list, quadratic fit, stable step and sub-steps.
 
-`SolidSolver` is the solid's twin of fluid.stepper.FluidSolver. It owns what the compiled drivers of stepper.py need
+`SolidSolver` is the solid's twin of fluid.solver.FluidSolver. It owns what the compiled drivers of stepper.py need
 between calls (the half neighbour list, SolidWork's scratch and pair cache, the scheme's SolidParams) and the loop
 that calls them: `advance(n, dt, ext_acc)` takes n leapfrog steps, rebuilding the list when a particle may cross half
 its skin and remaking (or, with solid.fit_refresh = rotate, turning) the quadratic fit's rows when the drivers ask.
