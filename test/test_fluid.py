@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.diagnostics import Diverged
-from sph_fsi_core.fluid.okaji import viscous_velocity, xz_periodic_marker
+from sph_fsi_core.fluid.okaji import viscous_velocity
+from sph_fsi_core.numerics.periodic import xz_periodic_marker
 from sph_fsi_core.fluid.solver import FluidSolver
 from sph_fsi_core.numerics.kernels import cubic_spline_w, lattice_density_scale, lattice_kernel_sum
 from sph_fsi_core.scene import load_scene

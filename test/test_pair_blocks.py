@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.fluid.okaji import (DENSITY_BLOCK_COLUMNS, VISCOUS_BLOCK_COLUMNS, summation_density,
-                                     viscous_velocity, xz_periodic_marker)
+                                     viscous_velocity)
 from sph_fsi_core.numerics.kernels import cubic_spline_f, cubic_spline_w
-from sph_fsi_core.fluid.neighbours import FluidNeighbourList
 from sph_fsi_core.numerics.neighbours import NeighbourList
+from sph_fsi_core.numerics.periodic import xz_periodic_marker
 from sph_fsi_core.numerics.pair_blocks import BLOCK, block_scratch
 from sph_fsi_core.solid.gradient_integration import gradient_force_rows
 from sph_fsi_core.solid.gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
@@ -64,7 +64,7 @@ def _half_list(pos):
 @pytest.mark.parametrize("images", ["rows", "y", "all"])
 def test_summation_density_equals_the_sum_over_every_particle(images):
     """Each compilation of the pass against brute force, and all give the same bits: the minimum image along y only
-    (okaji.xz_periodic_marker(PERIOD)) and skipped in the rows the lists' `crossing` flags leave out
+    (periodic.xz_periodic_marker(PERIOD)) and skipped in the rows the lists' `crossing` flags leave out
     ("rows"), along y in every row ("y"), along every axis ("all")."""
     pos, rng = _cloud()
     n = len(pos)
@@ -72,10 +72,10 @@ def test_summation_density_equals_the_sum_over_every_particle(images):
     walls = np.ascontiguousarray(np.stack([pos[:, 0], pos[:, 1], np.full(n, -0.5 * DP)], -1)[: n // 2])
     wall_mass = np.full(len(walls), 1e-6)
     box = dict(period=PERIOD, box_lo=np.zeros(3), box_hi=np.array([1.0, SPAN, 1.0]))
-    fluid = FluidNeighbourList(2 * H, 0.1 * H, half=True, **box)
+    fluid = NeighbourList(2 * H, 0.1 * H, half=True, **box)
     fluid.build(pos, pos)
     assert np.diff(fluid.start).max() > BLOCK   # some rows take two blocks
-    wall_list = FluidNeighbourList(2 * H, 0.1 * H, **box)
+    wall_list = NeighbourList(2 * H, 0.1 * H, **box)
     wall_list.build(pos, walls)
     flags = fluid.crossing | wall_list.crossing
     assert 0 < flags.sum() < n   # both kinds of row
@@ -115,8 +115,8 @@ def test_viscous_pass_equals_the_sum_over_every_particle(images):
     mass = rng.uniform(0.9, 1.1, n) * 1e-6
     rho = rng.uniform(990.0, 1010.0, n)
     vel = rng.normal(0.0, 0.1, (n, 3))
-    nl = FluidNeighbourList(2 * H, 0.1 * H, half=True, period=PERIOD, box_lo=np.zeros(3),
-                            box_hi=np.array([1.0, SPAN, 1.0]))
+    nl = NeighbourList(2 * H, 0.1 * H, half=True, period=PERIOD, box_lo=np.zeros(3),
+                       box_hi=np.array([1.0, SPAN, 1.0]))
     nl.build(pos, pos)
     assert np.diff(nl.start).max() > BLOCK   # some rows take two blocks
     assert 0 < nl.crossing.sum() < n
@@ -146,21 +146,29 @@ def test_viscous_pass_equals_the_sum_over_every_particle(images):
     assert np.array_equal(out, viscous(None, everywhere))
 
 
-def test_crossing_flags_mark_every_row_that_the_minimum_image_changes():
-    """FluidNeighbourList.crossing against brute force: a row is flagged exactly when one of its pairs lies at least
-    half the period less 1.1 skins apart along y as stored, so every row holding a pair across the periodic face
-    is flagged, and rows with no such pair are not."""
+@pytest.mark.parametrize("periodic_axes", [(1,), (0, 2)])
+def test_crossing_flags_mark_every_row_that_the_minimum_image_changes(periodic_axes):
+    """NeighbourList.crossing against brute force: a row is flagged exactly when one of its pairs lies at least
+    half the period less 1.1 skins apart along some periodic axis as stored, so every row holding a pair across a
+    periodic face is flagged, and rows with no such pair are not; along y alone (the scenes' slabs, the scan's
+    y-only compilation) and along x and z (the scan's every-axis compilation, y open)."""
     pos, _ = _cloud()
-    nl = FluidNeighbourList(2 * H, 0.1 * H, period=PERIOD, box_lo=np.zeros(3), box_hi=np.array([1.0, SPAN, 1.0]),
-                            half=True)
+    period = np.zeros(3)
+    for k in periodic_axes:
+        period[k] = SPAN
+        pos[:, k] %= SPAN
+    pos = np.ascontiguousarray(pos)
+    nl = NeighbourList(2 * H, 0.1 * H, period=period, box_lo=np.zeros(3), box_hi=np.full(3, SPAN), half=True)
     nl.build(pos, pos)
+    assert (nl.xz_periodic is None) == (periodic_axes == (1,))
     a = np.repeat(np.arange(len(pos)), np.diff(nl.start))
-    stored = np.abs(pos[a, 1] - pos[nl.index, 1])
     far = np.zeros(len(pos), dtype=bool)
-    np.logical_or.at(far, a, stored >= 0.5 * SPAN - 1.1 * 0.1 * H)
     across = np.zeros(len(pos), dtype=bool)
-    np.logical_or.at(across, a, stored > 0.5 * SPAN)
-    assert across.any()
+    for k in periodic_axes:
+        stored = np.abs(pos[a, k] - pos[nl.index, k])
+        np.logical_or.at(far, a, stored >= 0.5 * SPAN - 1.1 * 0.1 * H)
+        np.logical_or.at(across, a, stored > 0.5 * SPAN)
+    assert across.any() and not far.all()
     assert np.array_equal(nl.crossing, far)
     assert not (across & ~nl.crossing).any()
 

@@ -5,18 +5,9 @@ import math
 
 from numba import njit, prange
 
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_wf
+from ..numerics.kernels import cubic_spline_wf, kernel_normalisation, support_squared
 from ..numerics.neighbours import unsigned
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _image(d, period):
-    if period > 0.0:
-        if d > 0.5 * period:
-            return d - period
-        if d < -0.5 * period:
-            return d + period
-    return d
+from ..numerics.periodic import minimum_image
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -24,8 +15,9 @@ def surface_gradient(pos, volume, start, index, period, h, out):
     """g_a = -sum_b V_b grad_a W_ab over the solid's own particles (full list): zero in the bulk, outward at a
     surface (module docstring). grad_a W_ab = F_ab (r_a - r_b)."""
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
-    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    sigma = kernel_normalisation(h)
+    support2 = support_squared(h)
+    half_period = 0.5 * period
     for a in prange(pos.shape[0]):
         gx = 0.0
         gy = 0.0
@@ -34,9 +26,9 @@ def surface_gradient(pos, volume, start, index, period, h, out):
             b = index[k]
             if b == a:
                 continue
-            dx = _image(pos[a, 0] - pos[b, 0], period[0])
-            dy = _image(pos[a, 1] - pos[b, 1], period[1])
-            dz = _image(pos[a, 2] - pos[b, 2], period[2])
+            dx = minimum_image(pos[a, 0] - pos[b, 0], period[0], half_period[0])
+            dy = minimum_image(pos[a, 1] - pos[b, 1], period[1], half_period[1])
+            dz = minimum_image(pos[a, 2] - pos[b, 2], period[2], half_period[2])
             r2 = dx * dx + dy * dy + dz * dz
             if r2 >= support2:
                 continue
@@ -66,8 +58,9 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
     over the fluid neighbours b of solid surface particle a (solid->fluid list). Zero on interior and clamp
     particles."""
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
-    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    sigma = kernel_normalisation(h)
+    support2 = support_squared(h)
+    half_period = 0.5 * period
     for a in prange(solid_pos.shape[0]):
         acc[a, 0] = 0.0
         acc[a, 1] = 0.0
@@ -78,9 +71,9 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
         s = 0.0
         for k in range(unsigned(sfstart[a]), unsigned(sfstart[a + 1])):
             b = sfindex[k]
-            dx = _image(solid_pos[a, 0] - fluid_pos[b, 0], period[0])
-            dy = _image(solid_pos[a, 1] - fluid_pos[b, 1], period[1])
-            dz = _image(solid_pos[a, 2] - fluid_pos[b, 2], period[2])
+            dx = minimum_image(solid_pos[a, 0] - fluid_pos[b, 0], period[0], half_period[0])
+            dy = minimum_image(solid_pos[a, 1] - fluid_pos[b, 1], period[1], half_period[1])
+            dz = minimum_image(solid_pos[a, 2] - fluid_pos[b, 2], period[2], half_period[2])
             r2 = dx * dx + dy * dy + dz * dz
             if r2 >= support2:
                 continue
@@ -97,16 +90,17 @@ def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h,
     """P_s = sum_f P_f W_sf / sum_f W_sf over the fluid neighbours of solid particle s (0 without any): the
     pressure a solid particle carries as a wall (okaji.wall_pressure's rule, on the step's summed P)."""
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
-    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    sigma = kernel_normalisation(h)
+    support2 = support_squared(h)
+    half_period = 0.5 * period
     for s in prange(solid_pos.shape[0]):
         num = 0.0
         den = 0.0
         for k in range(unsigned(sfstart[s]), unsigned(sfstart[s + 1])):
             f = sfindex[k]
-            dx = _image(solid_pos[s, 0] - fluid_pos[f, 0], period[0])
-            dy = _image(solid_pos[s, 1] - fluid_pos[f, 1], period[1])
-            dz = _image(solid_pos[s, 2] - fluid_pos[f, 2], period[2])
+            dx = minimum_image(solid_pos[s, 0] - fluid_pos[f, 0], period[0], half_period[0])
+            dy = minimum_image(solid_pos[s, 1] - fluid_pos[f, 1], period[1], half_period[1])
+            dz = minimum_image(solid_pos[s, 2] - fluid_pos[f, 2], period[2], half_period[2])
             r2 = dx * dx + dy * dy + dz * dz
             if r2 >= support2:
                 continue
@@ -122,8 +116,9 @@ def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, flu
     """'pressure' model, the solid's side: F_s = sum_a m_a m'_s (P_a + P_s) / rho0^2 grad_a W_as (a gather over the
     fluid neighbours a of s), grad_a W_as = F_as (r_a - r_s)."""
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
-    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    sigma = kernel_normalisation(h)
+    support2 = support_squared(h)
+    half_period = 0.5 * period
     inv_rho2 = 1.0 / (rho0 * rho0)
     for s in prange(solid_pos.shape[0]):
         fx = 0.0
@@ -131,9 +126,9 @@ def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, flu
         fz = 0.0
         for k in range(unsigned(sfstart[s]), unsigned(sfstart[s + 1])):
             a = sfindex[k]
-            dx = _image(fluid_pos[a, 0] - solid_pos[s, 0], period[0])
-            dy = _image(fluid_pos[a, 1] - solid_pos[s, 1], period[1])
-            dz = _image(fluid_pos[a, 2] - solid_pos[s, 2], period[2])
+            dx = minimum_image(fluid_pos[a, 0] - solid_pos[s, 0], period[0], half_period[0])
+            dy = minimum_image(fluid_pos[a, 1] - solid_pos[s, 1], period[1], half_period[1])
+            dz = minimum_image(fluid_pos[a, 2] - solid_pos[s, 2], period[2], half_period[2])
             r2 = dx * dx + dy * dy + dz * dz
             if r2 >= support2:
                 continue
@@ -154,8 +149,9 @@ def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, so
     grad_a W_as over the solid neighbours s of fluid particle a (fluid->solid list). Bookkeeping only: the fluid
     already felt it in its correction (eq. (2) with the solid as a wall). Sums to minus the solid's side."""
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
-    support2 = SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+    sigma = kernel_normalisation(h)
+    support2 = support_squared(h)
+    half_period = 0.5 * period
     inv_rho2 = 1.0 / (rho0 * rho0)
     for a in prange(fluid_pos.shape[0]):
         fx = 0.0
@@ -163,9 +159,9 @@ def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, so
         fz = 0.0
         for k in range(unsigned(fsstart[a]), unsigned(fsstart[a + 1])):
             s = fsindex[k]
-            dx = _image(fluid_pos[a, 0] - solid_pos[s, 0], period[0])
-            dy = _image(fluid_pos[a, 1] - solid_pos[s, 1], period[1])
-            dz = _image(fluid_pos[a, 2] - solid_pos[s, 2], period[2])
+            dx = minimum_image(fluid_pos[a, 0] - solid_pos[s, 0], period[0], half_period[0])
+            dy = minimum_image(fluid_pos[a, 1] - solid_pos[s, 1], period[1], half_period[1])
+            dz = minimum_image(fluid_pos[a, 2] - solid_pos[s, 2], period[2], half_period[2])
             r2 = dx * dx + dy * dy + dz * dz
             if r2 >= support2:
                 continue

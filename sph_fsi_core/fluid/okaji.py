@@ -5,9 +5,9 @@ list (each pair once, b > a, the particle's own pair not listed), evaluated once
 particles through per-chunk buffers `buf` (chunks, N, 3) (no write races under prange; a second loop sums the
 chunks), and wall neighbours from a second, full list whose sources are the fixed wall particles. What calls
 them in order: fluid/stepper.py (the correction loop) and fluid/solver.py (the step). Their `xz_periodic` argument
-(xz_periodic_marker) says whether the pair loops take the minimum image along y only or along every axis; along y
-only, a target whose `crossing` flag is off (fluid.neighbours.FluidNeighbourList.crossing: its pairs stay within
-half a period of each other as stored) skips it too, which gives the same bits.
+(numerics.periodic.xz_periodic_marker) says whether the pair loops take the minimum image along y only or along
+every axis; along y only, a target whose `crossing` flag is off (numerics.neighbours.NeighbourList.crossing: its
+pairs stay within half a period of each other as stored) skips it too, which gives the same bits.
 
 Choices where the paper is open (docs/method.md, "Fluid"):
 
@@ -32,40 +32,10 @@ import math
 
 from numba import njit, prange
 
-from ..numerics.kernels import cubic_spline_wf
+from ..numerics.kernels import cubic_spline_wf, kernel_normalisation
 from ..numerics.neighbours import chunk_first_target, unsigned
+from ..numerics.periodic import minimum_image_if
 from ..numerics.pair_blocks import BLOCK, FAR_IN_H, STRIDE, kernel_block, pad_block, padded
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _image(d, period, half_period):
-    """Minimum image along one axis without a division: the lists guarantee period >= 2 cutoff and positions are
-    wrapped every step, so one shift by the period is always enough (period <= 0: not periodic)."""
-    if period > 0.0:
-        if d > half_period:
-            return d - period
-        if d < -half_period:
-            return d + period
-    return d
-
-
-def xz_periodic_marker(period):
-    """The passes' `xz_periodic` argument for a period: None when neither x nor z is periodic (the scenes' spanwise
-    slabs, periodic along y, and scenes with no periodic axis), True otherwise.
-
-    The branches of _image cost the pressure pass 1.2-1.3x even on an axis that is not periodic, so the pair loops
-    take the minimum image along y only unless this says otherwise. Numba compiles a function once per argument
-    type and drops an `if xz_periodic is None` branch that cannot be taken, so a run compiles only its own rows."""
-    return None if (period[0] <= 0.0 and period[2] <= 0.0) else True
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def fluid_separation(d, period, half_period, periodic):
-    """d through _image when `periodic` (a constant at every call site, so the test compiles away), d itself
-    otherwise. (_image returns d on an axis that is not periodic, so both give the same bits there.)"""
-    if periodic:
-        return _image(d, period, half_period)
-    return d
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -89,14 +59,14 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
     """Eq. (1)'s sum over one neighbour row (index[k0:k1] into src_pos), in blocks: returns s + sum_b m_b W_ab
     (added in the row's order) and leaves F_ab in f_cache[k0:k1]; with scatter_mass > 0 (a half list of the fluid)
     also adds scatter_mass W_ab to out[b]. Pairs in the list's skin give W = F = 0 and change no sum. on_x, on_y,
-    on_z: the axes to take the minimum image on (constants, fluid_separation)."""
+    on_z: the axes to take the minimum image on (constants, periodic.minimum_image_if)."""
     for lo in range(k0, k1, BLOCK):
         m = min(BLOCK, k1 - lo)
         for j in range(m):
             b = index[unsigned(lo + j)]
-            dx = fluid_separation(xa - src_pos[b, 0], period[0], half_period[0], on_x)
-            dy = fluid_separation(ya - src_pos[b, 1], period[1], half_period[1], on_y)
-            dz = fluid_separation(za - src_pos[b, 2], period[2], half_period[2], on_z)
+            dx = minimum_image_if(xa - src_pos[b, 0], period[0], half_period[0], on_x)
+            dy = minimum_image_if(ya - src_pos[b, 1], period[1], half_period[1], on_y)
+            dz = minimum_image_if(za - src_pos[b, 2], period[2], half_period[2], on_z)
             block[_R2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
         pad_block(block, m, _R2, (FAR_IN_H * h) ** 2, 0, 0, 0.0)
         kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma)
@@ -140,7 +110,7 @@ def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, wi
     n = pos.shape[0]
     chunks = density_buf.shape[0]
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
+    sigma = kernel_normalisation(h)
     half_period = 0.5 * period
     for c in prange(chunks):
         out = density_buf[c]
@@ -193,9 +163,9 @@ def _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, 
     den = 0.0
     for k in range(wfstart[i], wfstart[i + 1]):
         f = wfindex[k]
-        dx = fluid_separation(wall_pos[w, 0] - pos[f, 0], period[0], half_period[0], on_x)
-        dy = fluid_separation(wall_pos[w, 1] - pos[f, 1], period[1], half_period[1], on_y)
-        dz = fluid_separation(wall_pos[w, 2] - pos[f, 2], period[2], half_period[2], on_z)
+        dx = minimum_image_if(wall_pos[w, 0] - pos[f, 0], period[0], half_period[0], on_x)
+        dy = minimum_image_if(wall_pos[w, 1] - pos[f, 1], period[1], half_period[1], on_y)
+        dz = minimum_image_if(wall_pos[w, 2] - pos[f, 2], period[2], half_period[2], on_z)
         kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
         num += p[f] * kern
         den += kern
@@ -210,7 +180,7 @@ def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodi
     row i of the wall->fluid list belongs to wall particle active[i]). The others have no fluid neighbour and
     keep p_w = 0, at no cost."""
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
+    sigma = kernel_normalisation(h)
     half_period = 0.5 * period
     for i in prange(active.shape[0]):
         w = active[i]
@@ -241,17 +211,17 @@ def _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_po
     for k in range(unsigned(fstart[a]), unsigned(fstart[a + 1])):
         b = findex[k]
         coef = (qa + p_over_rho2[b]) * f_fluid[k]
-        dx = coef * fluid_separation(xa - pos[b, 0], px, hx, on_x)
-        dy = coef * fluid_separation(ya - pos[b, 1], py, hy, on_y)
-        dz = coef * fluid_separation(za - pos[b, 2], pz, hz, on_z)
+        dx = coef * minimum_image_if(xa - pos[b, 0], px, hx, on_x)
+        dy = coef * minimum_image_if(ya - pos[b, 1], py, hy, on_y)
+        dz = coef * minimum_image_if(za - pos[b, 2], pz, hz, on_z)
         ax, ay, az = _pair_to_both(out, b, mass[b], ma, dx, dy, dz, ax, ay, az)
     for k in range(unsigned(wstart[a]), unsigned(wstart[a + 1])):
         b = windex[k]
         coef = wall_mass[b] * (qa + wall_p_over_rho2[b]) * f_wall[k]
         if coef != 0.0:
-            ax += coef * fluid_separation(xa - wall_pos[b, 0], px, hx, on_x)
-            ay += coef * fluid_separation(ya - wall_pos[b, 1], py, hy, on_y)
-            az += coef * fluid_separation(za - wall_pos[b, 2], pz, hz, on_z)
+            ax += coef * minimum_image_if(xa - wall_pos[b, 0], px, hx, on_x)
+            ay += coef * minimum_image_if(ya - wall_pos[b, 1], py, hy, on_y)
+            az += coef * minimum_image_if(za - wall_pos[b, 2], pz, hz, on_z)
     return ax, ay, az
 
 
@@ -370,9 +340,9 @@ def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, hal
         for j in range(m):
             k = unsigned(lo + j)
             b = findex[k]
-            dx = fluid_separation(xa - pos[b, 0], px, hx, on_x)
-            dy = fluid_separation(ya - pos[b, 1], py, hy, on_y)
-            dz = fluid_separation(za - pos[b, 2], pz, hz, on_z)
+            dx = minimum_image_if(xa - pos[b, 0], px, hx, on_x)
+            dy = minimum_image_if(ya - pos[b, 1], py, hy, on_y)
+            dz = minimum_image_if(za - pos[b, 2], pz, hz, on_z)
             block[_VR2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
             block[_VRHO * STRIDE + j] = rho[b]
             block[_VF * STRIDE + j] = f_fluid[k]

@@ -18,7 +18,7 @@ times its relative compression, so what sets the iteration's stability and speed
 fluid.correction_coefficient = 0 (the default) takes c = kappa h / dt with kappa = fluid.correction_kappa, so the
 iteration behaves the same at any dt; a positive value fixes c in m/s (then a large dt can make it unstable).
 
-Neighbour lists (fluid/neighbours.py): fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall
+Neighbour lists (numerics/neighbours.py): fluid-fluid (half: each pair once), fluid-wall, and wall-fluid (for the wall
 pressure; only wall particles within reach of the water's bounding box), cutoff 2h + skin, built at r* when some
 particle has moved more than half the skin since the last build and reused by every iteration of the step (and by
 later steps while valid); every position correction measures how far particles have moved since the build, and the
@@ -32,14 +32,13 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .neighbours import FluidNeighbourList, inside_box, named_in
 from .okaji import (FLUID_BLOCK_COLUMNS, compression_error, gravity_and_predictor, summation_density,
                     velocity_from_displacement, viscous_velocity, wall_pressure, wrap_periodic)
 from .stepper import (CAPPED, NEEDS_REBUILD, CorrectionParams, FluidArrays, FluidBuffers, FluidNeighbours,
                       FluidWalls, correction_loop)
 from .wall_forces import wall_group_forces
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
-from ..numerics.neighbours import INDEX_DTYPE, position_bounds
+from ..numerics.neighbours import INDEX_DTYPE, NeighbourList, inside_box, named_in, position_bounds
 from ..numerics.pair_blocks import block_scratch
 
 
@@ -66,13 +65,12 @@ class FluidSolver:
         radius = SUPPORT_RADIUS_IN_H * self.h
         self.skin = float(skin)
         # half list: each fluid pair once (fluid/okaji.py), which halves the pair work of every pass and the build
-        self.fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
-                                                   half=True)
-        self.xz_periodic = self.fluid_neighbours.xz_periodic   # the passes' (okaji.xz_periodic_marker)
+        self.fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi, half=True)
+        self.xz_periodic = self.fluid_neighbours.xz_periodic   # the passes' (periodic.xz_periodic_marker)
         # the fixed walls' grid is made once (with a solid in the boundary it moves and is remade)
-        self.wall_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
-                                                  keep_grid_while_sources_stay=True)
-        self.wall_fluid_neighbours = FluidNeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
+        self.wall_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi,
+                                             keep_grid_while_sources_stay=True)
+        self.wall_fluid_neighbours = NeighbourList(radius, skin, period=period, box_lo=box_lo, box_hi=box_hi)
         self.wall_pos = walls.pos if walls is not None else np.zeros((0, 3))
         self.wall_mass = walls.mass if walls is not None else np.zeros(0)
         self.wall_p_over_rho2 = np.zeros(len(self.wall_mass))
@@ -140,7 +138,7 @@ class FluidSolver:
             # they are scanned (at 10^5 fluid particles in the dam break, 1 in 6; 17 of a 93 ms rebuild before).
             self.wall_neighbours.build(pos, self.wall_pos,
                                        scanned=named_in(self.wall_fluid_neighbours.index, len(pos)))
-            # a fluid target's rows: fluid and wall (fluid.neighbours.FluidNeighbourList.crossing)
+            # a fluid target's rows: fluid and wall (numerics.neighbours.NeighbourList.crossing)
             self.crossing = self.fluid_neighbours.crossing | self.wall_neighbours.crossing
             self.wall_crossing = self.wall_fluid_neighbours.crossing
             self.wall_p_over_rho2[:] = 0.0

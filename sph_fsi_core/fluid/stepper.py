@@ -33,7 +33,7 @@ class FluidWalls(NamedTuple):
 
 
 class FluidNeighbours(NamedTuple):
-    """The fluid's three lists (fluid/neighbours.py; row a of a list is index[start[a]:start[a + 1]]) and the box."""
+    """The fluid's three lists (numerics/neighbours.py; row a of a list is index[start[a]:start[a + 1]]) and the box."""
     fluid_start: np.ndarray        # (N + 1,) int64, the fluid-fluid half list (each pair once)
     fluid_index: np.ndarray        # (P,)
     wall_start: np.ndarray         # (N + 1,) int64, fluid -> wall
@@ -45,7 +45,7 @@ class FluidNeighbours(NamedTuple):
     wall_crossing: np.ndarray      # (A,) bool, wall -> fluid rows that may
     targets_at_build: np.ndarray   # (N, 3) m, the fluid positions the lists were built at (the skin test)
     period: np.ndarray             # (3,) m, the periodic box's lengths (0: not periodic)
-    xz_periodic: object            # None or True: okaji.xz_periodic_marker(period)
+    xz_periodic: object            # None or True: periodic.xz_periodic_marker(period)
 
 
 class CorrectionParams(NamedTuple):

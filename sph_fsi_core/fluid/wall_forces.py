@@ -13,7 +13,8 @@ import numpy as np
 from numba import njit, prange
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_f
-from ..numerics.neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
+from ..numerics.neighbours import chunk_first_target, unsigned
+from ..numerics.periodic import minimum_image
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -24,7 +25,7 @@ def wall_group_forces(pos, mass, rho, pressure, wall_pos, wall_mass, wall_q, gro
     wall_q = P_w / rho0^2). `buf`: (chunks, groups, 3) scratch."""
     chunks = buf.shape[0]
     reach = SUPPORT_RADIUS_IN_H * h
-    inv = inverse_periods(period)
+    half_period = 0.5 * period
     for c in prange(chunks):
         out = buf[c]
         out[:] = 0.0
@@ -35,9 +36,9 @@ def wall_group_forces(pos, mass, rho, pressure, wall_pos, wall_mass, wall_q, gro
                 g = group[w]
                 if g < 0:
                     continue
-                dx = minimum_image(pos[a, 0] - wall_pos[w, 0], period[0], inv[0])
-                dy = minimum_image(pos[a, 1] - wall_pos[w, 1], period[1], inv[1])
-                dz = minimum_image(pos[a, 2] - wall_pos[w, 2], period[2], inv[2])
+                dx = minimum_image(pos[a, 0] - wall_pos[w, 0], period[0], half_period[0])
+                dy = minimum_image(pos[a, 1] - wall_pos[w, 1], period[1], half_period[1])
+                dz = minimum_image(pos[a, 2] - wall_pos[w, 2], period[2], half_period[2])
                 r = math.sqrt(dx * dx + dy * dy + dz * dz)
                 if r >= reach:
                     continue

@@ -18,6 +18,18 @@ SUPPORT_RADIUS_IN_H = 2.0
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def kernel_normalisation(h):
+    """sigma = 1 / (pi h^3), the factor of the M4 kernel in 3D (W = sigma w(q)): what cubic_spline_wf takes."""
+    return 1.0 / (math.pi * h * h * h)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def support_squared(h):
+    """(2h)^2, the squared radius beyond which W and F vanish: pairs in a list's skin past it are skipped."""
+    return SUPPORT_RADIUS_IN_H * SUPPORT_RADIUS_IN_H * h * h
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def positive_part(x):
     """max(x, 0) as a select: the builtin max is a call into another compiled library, which keeps a loop that
     uses it from running in SIMD lanes in its own library (pair_blocks.py)."""
@@ -55,7 +67,8 @@ def cubic_spline_f(r, h):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def cubic_spline_wf(r, inv_h, sigma):
-    """(W, F) together for one pair, sharing q and the two truncated powers; inv_h = 1/h, sigma = 1/(pi h^3).
+    """(W, F) together for one pair, sharing q and the two truncated powers; inv_h = 1/h,
+    sigma = kernel_normalisation(h).
 
     The same values as cubic_spline_w and cubic_spline_f up to rounding, with one division instead of four:
     this is the form the per-step pair passes use.

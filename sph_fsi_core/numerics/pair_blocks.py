@@ -20,7 +20,8 @@ import numpy as np
 from numba import njit
 
 from .kernels import cubic_spline_wf
-from .neighbours import minimum_image, unsigned
+from .neighbours import unsigned
+from .periodic import minimum_image
 
 LANES = 8                  # float64 lanes of an AVX-512 register
 BLOCK = 64                 # pairs per block; longer rows are done in several blocks
@@ -90,16 +91,16 @@ def gather_tensors(block, col, index, lo, m, tensors):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def minimum_image_block(block, col_x, m, period, inv_period):
-    """neighbours.minimum_image on the separations of a block's m pairs, in columns col_x, col_x + 1, col_x + 2;
+def minimum_image_block(block, col_x, m, period, half_period):
+    """periodic.minimum_image on the separations of a block's m pairs, in columns col_x, col_x + 1, col_x + 2;
     called only for periodic scenes (the gather stores plain differences)."""
     for k in range(3):
         p = period[k]
-        ip = inv_period[k]
+        hp = half_period[k]
         if p > 0.0:
             c0 = (col_x + k) * STRIDE
             for j in range(m):
-                block[c0 + j] = minimum_image(block[c0 + j], p, ip)
+                block[c0 + j] = minimum_image(block[c0 + j], p, hp)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)

@@ -14,7 +14,8 @@ Here each particle fits v_b - v_a ~ g . d + d^T H d / 2 over its neighbours with
 unknowns, u = d / h keeps the moment matrix well scaled), which is exact for quadratic velocity fields:
 
     L_a = sum_b (v_b - v_a) (x) G_ab,   G_ab = V_b W_ab R_a p(u_ab) / h,   R_a = rows 0..2 of M_a^-1,
-    M_a = sum_b V_b W_ab p(u_ab) p(u_ab)^T,  p(u) = (u_x, u_y, u_z, u_x^2/2, u_y^2/2, u_z^2/2, u_x u_y, u_x u_z, u_y u_z).
+    M_a = sum_b V_b W_ab p(u_ab) p(u_ab)^T,
+    p(u) = (u_x, u_y, u_z, u_x^2/2, u_y^2/2, u_z^2/2, u_x u_y, u_x u_z, u_y u_z).
 
 Where the quadratic fit is not determined (fewer than three particle layers in some direction) the particle
 falls back to the linear fit (first 3 x 3 block). The force that goes with this strain rate is the one whose
@@ -28,8 +29,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..numerics.kernels import cubic_spline_w, cubic_spline_wf
-from ..numerics.neighbours import chunk_first_target, inverse_periods, minimum_image, unsigned
+from ..numerics.kernels import cubic_spline_w, cubic_spline_wf, kernel_normalisation, support_squared
+from ..numerics.neighbours import chunk_first_target, unsigned
+from ..numerics.periodic import minimum_image
 from ..numerics.pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .gradient_integration import basis_dot, quadratic_monomials
@@ -61,11 +63,11 @@ def _basis(ux, uy, uz, p):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h):
+def _scaled_offset_and_weight(pos, a, b, period, half_period, h, inv_h):
     """u_ab = (x_b - x_a) / h (minimum image) and W_ab: what the fit's moments and its pair weights are built from."""
-    ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0], inv_period[0]) * inv_h
-    uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1], inv_period[1]) * inv_h
-    uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2], inv_period[2]) * inv_h
+    ux = -minimum_image(pos[a, 0] - pos[b, 0], period[0], half_period[0]) * inv_h
+    uy = -minimum_image(pos[a, 1] - pos[b, 1], period[1], half_period[1]) * inv_h
+    uz = -minimum_image(pos[a, 2] - pos[b, 2], period[2], half_period[2]) * inv_h
     return ux, uy, uz, cubic_spline_w(math.sqrt(ux * ux + uy * uy + uz * uz) * h, h)
 
 
@@ -114,7 +116,7 @@ def _cholesky_solve_rows(m, rows, nb):
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def _fit_moments_chunk(c, chunks, pos, period, mass, rho, start, index, h, moment_buf):
     """mls_fit_rows' pair pass for chunk c of the half list's targets: its moment sums into moment_buf[c]."""
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     inv_h = 1.0 / h
     out = moment_buf[c]
     out[:, :] = 0.0
@@ -123,7 +125,7 @@ def _fit_moments_chunk(c, chunks, pos, period, mass, rho, start, index, h, momen
         va = mass[a] / rho[a]
         for s in range(unsigned(start[a]), unsigned(start[a + 1])):
             b = index[s]
-            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
+            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, half_period, h, inv_h)
             _basis(ux, uy, uz, p)
             wa = mass[b] / rho[b] * wab
             wb = va * wab
@@ -286,13 +288,13 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def mls_pair_weights(pos, period, mass, rho, start, index, h, rows, weights):
     """The pair cache `weights` (pairs, 6) = (G_ab, G_ba) at the current positions (after a list build)."""
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     inv_h = 1.0 / h
     for a in prange(pos.shape[0]):
         va = mass[a] / rho[a]
         for s in range(unsigned(start[a]), unsigned(start[a + 1])):
             b = index[s]
-            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, inv_period, h, inv_h)
+            ux, uy, uz, wab = _scaled_offset_and_weight(pos, a, b, period, half_period, h, inv_h)
             _store_pair_weights(rows, a, b, ux, uy, uz, mass[b] / rho[b] * wab * inv_h, va * wab * inv_h, weights, s)
 
 
@@ -435,12 +437,12 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
     (neighbours.NeighbourList.crossing; the others take plain differences, the same bits). `variant`:
     pair_variant(gradient integration on, art_exponent), the setting as a type.
     """
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
-    support2 = 4.0 * h * h
-    sigma_k = 1.0 / (math.pi * h * h * h)
+    support2 = support_squared(h)
+    sigma_k = kernel_normalisation(h)
     n = vel.shape[0]
     gradient_integration = force_rows.shape[0] == n
     if gradient_integration != (len(variant) < 3):
@@ -466,7 +468,7 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
                 if art_exponent > 0:
                     gather_tensors(block, _R_B, index, lo, m, art_stress)
                 if periodic and crossing[a]:
-                    minimum_image_block(block, _RX, m, period, inv_period)
+                    minimum_image_block(block, _RX, m, period, half_period)
                 _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a], force_rows[a] if
                                 gradient_integration else rows[a], mass[a], rho[a], ka, inv_h, sigma_k, h, eta2,
                                 sound_speed, alpha, beta, art_exponent, inv_w_dp, variant)

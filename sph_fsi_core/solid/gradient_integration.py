@@ -4,8 +4,8 @@ Not in the paper. The particle scheme integrates the strain energy at the nodes:
 each particle's strain taken at its centre. In bending the strain varies linearly across every particle's cell,
 and the centre value misses the cell's own second moment: on the paper's beam (4 layers at +-0.5 and +-1.5 dp)
 sum z^2 = 5 dp^2 against H^3 / 12 = 5.33 dp^2, so EI comes out 6 % short and the frequency 3.2 %
-(docs/method.md, "Strain-gradient nodal integration"). A Taylor expansion of the strain over the cell (a cube of side dp: second moment
-m = dp^2 / 12 in each direction) adds
+(docs/method.md, "Strain-gradient nodal integration"). A Taylor expansion of the strain over the cell (a cube of
+side dp: second moment m = dp^2 / 12 in each direction) adds
 
     sum_a V_a m sum_k (d_k S_a : d_k eps_a) / 2,
 
@@ -15,7 +15,8 @@ bending it carries all but 1 % of the energy at nu = 0.49 (87 % at nu = 0.3), wh
 K = 50 G at nu = 0.49, penalised the fit's volumetric strain gradient so hard that the paper's beam came out 5 %
 stiff with its first mode trading energy away within a period (docs/method.md, "Strain-gradient nodal integration").
 
-The quadratic fit of solid/fitted_gradient.py already determines the velocity's second derivatives: with rows 3..8 of M_a^-1,
+The quadratic fit of solid/fitted_gradient.py already determines the velocity's second derivatives: with rows 3..8
+of M_a^-1,
     d_j d_k v_a = sum_b (v_b - v_a) Gh_ab[jk],   Gh_ab = V_b W_ab (rows 3..8 of M_a^-1) p(u_ab) / h^2
 (six entries xx, yy, zz, xy, xz, yz; the passes apply the rows once per particle instead of storing Gh per
 pair). The stress gradient T_a[k] = d_k S_a (three traceless symmetric tensors) is state:
@@ -28,7 +29,8 @@ linear (fewer than three layers) have zero Hessian rows and no correction.
 import numpy as np
 from numba import njit, prange
 
-from ..numerics.neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
+from ..numerics.neighbours import chunk_first_target, unsigned
+from ..numerics.periodic import pair_separation
 from ..numerics.tensors import XX, XY, XZ, YY, YZ, ZZ
 
 HESSIAN_ROWS = 6
@@ -50,9 +52,9 @@ def _sym(i, j):
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def basis_dot(v, ux, uy, uz):
-    """v . p(u) for the quadratic basis p of solid/fitted_gradient.py. With v = A_a[i] (gradient_force_rows) and the pair's
-    s_ab = V_b W_ab / h^2, s_ab basis_dot(A_a[i], u_ab) is Phi_ab,i of the module doc; fitted_gradient.momentum_rate_mls
-    adds the pair's F_ab = Phi_ab - Phi_ba, where u and W_ab are at hand."""
+    """v . p(u) for the quadratic basis p of solid/fitted_gradient.py. With v = A_a[i] (gradient_force_rows) and the
+    pair's s_ab = V_b W_ab / h^2, s_ab basis_dot(A_a[i], u_ab) is Phi_ab,i of the module doc;
+    fitted_gradient.momentum_rate_mls adds the pair's F_ab = Phi_ab - Phi_ba, where u and W_ab are at hand."""
     return ((v[0] * ux + v[1] * uy + v[2] * uz)
             + 0.5 * (v[3] * ux * ux + v[4] * uy * uy + v[5] * uz * uz)
             + (v[6] * ux * uy + v[7] * ux * uz + v[8] * uy * uz))
@@ -106,7 +108,7 @@ def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, 
     per particle (solid.stepper.particle_volumes). crossing: the rows that may need the minimum image
     (neighbours.NeighbourList.crossing; the others take plain differences, the same bits).
     """
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     n = pos.shape[0]
     inv_h = 1.0 / h
     chunks = moments.shape[0]
@@ -122,7 +124,7 @@ def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, 
                 if w[s] == 0.0:
                     continue
                 b = index[s]
-                rx, ry, rz = pair_separation(pos, a, b, period, inv_period, wrap)
+                rx, ry, rz = pair_separation(pos, a, b, period, half_period, wrap)
                 ux = -rx * inv_h
                 uy = -ry * inv_h
                 uz = -rz * inv_h

@@ -1,8 +1,9 @@
 """Elastic solid of Gray, Monaghan & Swift (2001) in 3D, as used by Satake et al. (sec. 2.1, eqs. (3)-(5)).
 
 Each function is one pass: an equation's right-hand side over the half pair list (each pair once, b > a; see
-neighbours.py), or one per-particle update. State per solid particle: position, velocity, density rho, deviatoric stress S (N, 6 in the
-XX, YY, ZZ, XY, XZ, YZ order of tensors.py). The full stress is sigma = -p I + S with p = c0^2 (rho - rho0).
+neighbours.py), or one per-particle update. State per solid particle: position, velocity, density rho, deviatoric
+stress S (N, 6 in the XX, YY, ZZ, XY, XZ, YZ order of tensors.py). The full stress is sigma = -p I + S with
+p = c0^2 (rho - rho0).
 
 Sign of the artificial viscosity (METHOD 'Open (sign)'): Pi_ab here is Monaghan's, (-alpha cbar mu + beta mu^2)
 / rhobar with mu = h v_ab.r_ab / (r_ab^2 + 0.01 h^2) for approaching pairs (v_ab.r_ab < 0), so Pi_ab >= 0. It
@@ -15,8 +16,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..numerics.kernels import cubic_spline_wf
-from ..numerics.neighbours import chunk_first_target, inverse_periods, pair_separation, unsigned
+from ..numerics.kernels import cubic_spline_wf, kernel_normalisation
+from ..numerics.neighbours import chunk_first_target, unsigned
+from ..numerics.periodic import pair_separation
 from ..numerics.pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE, VELOCITY_DIFFERENCE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from ..numerics.tensors import XX, XY, XZ, YY, YZ, ZZ, symmetric_eigen
@@ -50,7 +52,8 @@ def sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v):
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, start, index, w, f, xsph_eps, vhat,
                                grad_v, buf, correct_gradient, kinv):
-    """XSPH-averaged velocity, eq. (4), and the velocity gradient L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
+    """XSPH-averaged velocity, eq. (4), and the velocity gradient
+    L^ij_a = sum_b (m_b/rho_b)(v_b^i - v_a^i) dW_ab/dx_a^j.
 
     One pass over the half list (each pair once): with g = grad_a W_ab and dv = v_b - v_a, the pair adds
     V_b dv (x) g to L_a and V_a dv (x) g to L_b (grad_b W_ba = -g and v_a - v_b = -dv), and m/rhobar W dv with
@@ -65,7 +68,7 @@ def xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, st
     crossing: per row, whether its pairs may need the minimum image (neighbours.NeighbourList.crossing); the
     other rows take plain differences, the same bits.
     """
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     n = vel.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -82,7 +85,7 @@ def xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, st
                 b = index[s]
                 vb = volume[b]
                 fs = f[s]
-                rx, ry, rz = pair_separation(pos, a, b, period, inv_period, wrap)
+                rx, ry, rz = pair_separation(pos, a, b, period, half_period, wrap)
                 gx = fs * rx
                 gy = fs * ry
                 gz = fs * rz
@@ -207,7 +210,7 @@ def continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, d
     per particle, divided once per step rather than once per pair (solid.stepper.particle_volumes). crossing: as
     in xsph_velocity_and_gradient.
     """
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     n = vhat.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -219,7 +222,7 @@ def continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, d
             da = 0.0
             for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
-                rx, ry, rz = pair_separation(pos, a, b, period, inv_period, wrap)
+                rx, ry, rz = pair_separation(pos, a, b, period, half_period, wrap)
                 d = f[s] * ((vhat[a, 0] - vhat[b, 0]) * rx + (vhat[a, 1] - vhat[b, 1]) * ry
                             + (vhat[a, 2] - vhat[b, 2]) * rz)
                 da += volume[b] * d
@@ -512,11 +515,11 @@ def momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho
     Pairs of two clamp particles (`movable` False) only refresh the cache: their forces act on no moving particle
     (and with the mirrored clamp they would move the ghosts' images).
     """
-    inv_period = inverse_periods(period)
+    half_period = 0.5 * period
     periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
     eta2 = 0.01 * h * h
     inv_h = 1.0 / h
-    sigma = 1.0 / (math.pi * h * h * h)
+    sigma = kernel_normalisation(h)
     n = vel.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -541,7 +544,7 @@ def momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho
                             block[(_K_B + k) * STRIDE + j] = kinv[b, k // 3, k % 3]
                     pad_block(block, m, _K_B, 0.0, _K_B + 1, _K_B + 9, 0.0)
                 if periodic and crossing[a]:   # (xsph_velocity_and_gradient)
-                    minimum_image_block(block, _RX, m, period, inv_period)
+                    minimum_image_block(block, _RX, m, period, half_period)
                 _momentum_pair_block(block, padded(m), sigma_over_rho2[a], art_stress[a], kinv[a], rho[a], inv_h,
                                      sigma, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp,
                                      correct_gradient)
