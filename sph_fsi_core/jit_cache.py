@@ -112,8 +112,8 @@ def _entry_kernels(phases, fitted_solid=True):
         from .fluid.stepper import correction_loop
         kernels.append(correction_loop)
     if "coupling" in phases:
-        from .coupling.forces import pressure_force_on_solid
-        kernels.append(pressure_force_on_solid)
+        from .coupling.forces import pressure_pair_forces
+        kernels.append(pressure_pair_forces)
     return kernels
 
 

@@ -5,9 +5,19 @@ import math
 
 from numba import njit, prange
 
+from ..fluid.okaji import shepard_sums
 from ..numerics.kernels import cubic_spline_wf, kernel_normalisation, support_squared
 from ..numerics.neighbours import unsigned
 from ..numerics.periodic import minimum_image
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _separation(pos_a, a, pos_b, b, period, half_period):
+    """r_a - r_b by the minimum image, and its square."""
+    dx = minimum_image(pos_a[a, 0] - pos_b[b, 0], period[0], half_period[0])
+    dy = minimum_image(pos_a[a, 1] - pos_b[b, 1], period[1], half_period[1])
+    dz = minimum_image(pos_a[a, 2] - pos_b[b, 2], period[2], half_period[2])
+    return dx, dy, dz, dx * dx + dy * dy + dz * dz
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -26,10 +36,7 @@ def surface_gradient(pos, volume, start, index, period, h, out):
             b = index[k]
             if b == a:
                 continue
-            dx = minimum_image(pos[a, 0] - pos[b, 0], period[0], half_period[0])
-            dy = minimum_image(pos[a, 1] - pos[b, 1], period[1], half_period[1])
-            dz = minimum_image(pos[a, 2] - pos[b, 2], period[2], half_period[2])
-            r2 = dx * dx + dy * dy + dz * dz
+            dx, dy, dz, r2 = _separation(pos, a, pos, b, period, half_period)
             if r2 >= support2:
                 continue
             _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
@@ -71,10 +78,7 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
         s = 0.0
         for k in range(unsigned(sfstart[a]), unsigned(sfstart[a + 1])):
             b = sfindex[k]
-            dx = minimum_image(solid_pos[a, 0] - fluid_pos[b, 0], period[0], half_period[0])
-            dy = minimum_image(solid_pos[a, 1] - fluid_pos[b, 1], period[1], half_period[1])
-            dz = minimum_image(solid_pos[a, 2] - fluid_pos[b, 2], period[2], half_period[2])
-            r2 = dx * dx + dy * dy + dz * dz
+            _, _, _, r2 = _separation(solid_pos, a, fluid_pos, b, period, half_period)
             if r2 >= support2:
                 continue
             w, _ = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
@@ -88,91 +92,50 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
 def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h, out):
     """P_s = sum_f P_f W_sf / sum_f W_sf over the fluid neighbours of solid particle s (0 without any): the
-    pressure a solid particle carries as a wall (okaji.wall_pressure's rule, on the step's summed P)."""
+    pressure a solid particle carries as a wall (the fluid's own rule and sums, okaji.shepard_sums, on the step's
+    summed P, the image on every axis)."""
     inv_h = 1.0 / h
     sigma = kernel_normalisation(h)
-    support2 = support_squared(h)
     half_period = 0.5 * period
     for s in prange(solid_pos.shape[0]):
-        num = 0.0
-        den = 0.0
-        for k in range(unsigned(sfstart[s]), unsigned(sfstart[s + 1])):
-            f = sfindex[k]
-            dx = minimum_image(solid_pos[s, 0] - fluid_pos[f, 0], period[0], half_period[0])
-            dy = minimum_image(solid_pos[s, 1] - fluid_pos[f, 1], period[1], half_period[1])
-            dz = minimum_image(solid_pos[s, 2] - fluid_pos[f, 2], period[2], half_period[2])
-            r2 = dx * dx + dy * dy + dz * dz
-            if r2 >= support2:
-                continue
-            w, _ = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-            num += fluid_p[f] * w
-            den += w
+        num, den = shepard_sums(s, s, solid_pos, fluid_pos, fluid_p, sfstart, sfindex, period, half_period, inv_h,
+                                sigma, True, True, True)
         out[s] = num / den if den > 0.0 else 0.0
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def pressure_force_on_solid(solid_pos, wall_mass, solid_p, sfstart, sfindex, fluid_pos, fluid_mass, fluid_p, period,
-                            h, rho0, force):
-    """'pressure' model, the solid's side: F_s = sum_a m_a m'_s (P_a + P_s) / rho0^2 grad_a W_as (a gather over the
-    fluid neighbours a of s), grad_a W_as = F_as (r_a - r_s)."""
+def pressure_pair_forces(pos, mass, p, start, index, other_pos, other_mass, other_p, period, h, rho0, force):
+    """'pressure' model: the force on each target t from its neighbours u in the other phase (a gather over one
+    list), F_t = sum_u m_t m_u (P_t + P_u) / rho0^2 grad_u W_ut,  grad_u W_ut = F_tu (r_u - r_t).
+
+    One pass for both sides of the same pairs: with the solid as targets (solid->fluid list; `mass` m'_s, the
+    solid particle's mass as the water's wall) the push on the solid, F_s = sum_a m_a m'_s (P_a + P_s) / rho0^2
+    grad_a W_as; with the water as targets (fluid->solid list) the reaction, bookkeeping only (the fluid already
+    felt it in its correction, eq. (2) with the solid as a wall), which sums to minus the solid's side. The pair's
+    coefficient reads the same either way (IEEE products and sums commute exactly) and r_u - r_t = -(r_t - r_u)
+    exactly, so each side has the bits of a pass of its own."""
     inv_h = 1.0 / h
     sigma = kernel_normalisation(h)
     support2 = support_squared(h)
-    half_period = 0.5 * period
     inv_rho2 = 1.0 / (rho0 * rho0)
-    for s in prange(solid_pos.shape[0]):
+    half_period = 0.5 * period
+    for t in prange(pos.shape[0]):
         fx = 0.0
         fy = 0.0
         fz = 0.0
-        for k in range(unsigned(sfstart[s]), unsigned(sfstart[s + 1])):
-            a = sfindex[k]
-            dx = minimum_image(fluid_pos[a, 0] - solid_pos[s, 0], period[0], half_period[0])
-            dy = minimum_image(fluid_pos[a, 1] - solid_pos[s, 1], period[1], half_period[1])
-            dz = minimum_image(fluid_pos[a, 2] - solid_pos[s, 2], period[2], half_period[2])
-            r2 = dx * dx + dy * dy + dz * dz
+        for k in range(unsigned(start[t]), unsigned(start[t + 1])):
+            u = index[k]
+            dx, dy, dz, r2 = _separation(other_pos, u, pos, t, period, half_period)
             if r2 >= support2:
                 continue
             _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-            c = fluid_mass[a] * wall_mass[s] * (fluid_p[a] + solid_p[s]) * inv_rho2 * f
+            c = mass[t] * other_mass[u] * (p[t] + other_p[u]) * inv_rho2 * f
             fx += c * dx
             fy += c * dy
             fz += c * dz
-        force[s, 0] = fx
-        force[s, 1] = fy
-        force[s, 2] = fz
-
-
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def pressure_force_on_fluid(fluid_pos, fluid_mass, fluid_p, fsstart, fsindex, solid_pos, wall_mass, solid_p, period,
-                            h, rho0, force):
-    """'pressure' model, the fluid's side of the same pairs: F_a = -sum_s m_a m'_s (P_a + P_s) / rho0^2
-    grad_a W_as over the solid neighbours s of fluid particle a (fluid->solid list). Bookkeeping only: the fluid
-    already felt it in its correction (eq. (2) with the solid as a wall). Sums to minus the solid's side."""
-    inv_h = 1.0 / h
-    sigma = kernel_normalisation(h)
-    support2 = support_squared(h)
-    half_period = 0.5 * period
-    inv_rho2 = 1.0 / (rho0 * rho0)
-    for a in prange(fluid_pos.shape[0]):
-        fx = 0.0
-        fy = 0.0
-        fz = 0.0
-        for k in range(unsigned(fsstart[a]), unsigned(fsstart[a + 1])):
-            s = fsindex[k]
-            dx = minimum_image(fluid_pos[a, 0] - solid_pos[s, 0], period[0], half_period[0])
-            dy = minimum_image(fluid_pos[a, 1] - solid_pos[s, 1], period[1], half_period[1])
-            dz = minimum_image(fluid_pos[a, 2] - solid_pos[s, 2], period[2], half_period[2])
-            r2 = dx * dx + dy * dy + dz * dz
-            if r2 >= support2:
-                continue
-            _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
-            c = fluid_mass[a] * wall_mass[s] * (fluid_p[a] + solid_p[s]) * inv_rho2 * f
-            fx -= c * dx
-            fy -= c * dy
-            fz -= c * dz
-        force[a, 0] = fx
-        force[a, 1] = fy
-        force[a, 2] = fz
+        force[t, 0] = fx
+        force[t, 1] = fy
+        force[t, 2] = fz
 
 
 def solid_wall_mass(mass, rho, water_density, lattice_scale):

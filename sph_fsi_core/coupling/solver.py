@@ -45,8 +45,8 @@ import math
 
 import numpy as np
 
-from .forces import (pressure_force_on_fluid, pressure_force_on_solid, seed_push, shepard_pressure,
-                     solid_wall_mass, surface_gradient, surface_normals)
+from .forces import (pressure_pair_forces, seed_push, shepard_pressure, solid_wall_mass, surface_gradient,
+                     surface_normals)
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
 from ..numerics.neighbours import NeighbourList
 from ..state import WallState
@@ -161,8 +161,8 @@ class Coupling:
         pos = s.pos
         nb.update(pos, f.pos)
         shepard_pressure(pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.solid_p)
-        pressure_force_on_solid(pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass,
-                                f.pressure, self.period, self.h, self.rho0, self.force)
+        pressure_pair_forces(pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass, f.pressure,
+                             self.period, self.h, self.rho0, self.force)
         return self.force
 
     def fluid_side_forces(self):
@@ -174,8 +174,8 @@ class Coupling:
         pos = s.pos
         nb.build(f.pos, pos)
         out = np.zeros((f.count, 3))
-        pressure_force_on_fluid(f.pos, f.mass, f.pressure, nb.start, nb.index, pos, self.wall_mass, self.solid_p,
-                                self.period, self.h, self.rho0, out)
+        pressure_pair_forces(f.pos, f.mass, f.pressure, nb.start, nb.index, pos, self.wall_mass, self.solid_p,
+                             self.period, self.h, self.rho0, out)
         return out
 
     def substeps(self, fluid_dt, solid_dt_limit):

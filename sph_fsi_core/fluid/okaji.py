@@ -157,8 +157,10 @@ def compression_error(rho, rho0):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma, on_x, on_y, on_z):
-    """(sum_f p_f W_wf, sum_f W_wf) over row i of the wall->fluid list, that of wall particle w."""
+def shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma, on_x, on_y, on_z):
+    """(sum_f p_f W_wf, sum_f W_wf) over row i of the wall->fluid list, that of wall particle w: the two sums of
+    the wall's Shepard pressure (module docstring; also the coupling's solid particles, coupling/forces.py). A pair
+    in the list's skin adds W = 0 to both."""
     num = 0.0
     den = 0.0
     for k in range(wfstart[i], wfstart[i + 1]):
@@ -185,13 +187,13 @@ def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodi
     for i in prange(active.shape[0]):
         w = active[i]
         if xz_periodic is not None:
-            num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
+            num, den = shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
                                     True, True, True)
         elif crossing[i]:
-            num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
+            num, den = shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
                                     False, True, False)
         else:
-            num, den = _shepard_row(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
+            num, den = shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
                                     False, False, False)
         wall_p_over_rho2[w] = num / den / (rho0 * rho0) if den > 0.0 else 0.0
 
