@@ -6,11 +6,11 @@ beyond round-off, so 1, 2 and 5 chunks must agree to round-off on a disordered c
 import numpy as np
 import pytest
 
+import solid_bundles
 from sph_fsi_core.fluid.okaji import FLUID_BLOCK_COLUMNS, viscous_velocity
 from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
 from sph_fsi_core.numerics.pair_blocks import block_scratch
-from sph_fsi_core.solid.gray2001 import (MOMENTUM_BLOCK_COLUMNS, continuity_rate, momentum_rate,
-                                         xsph_velocity_and_gradient)
+from sph_fsi_core.solid.gray2001 import continuity_rate, momentum_rate, xsph_velocity_and_gradient
 
 DP, H = 1e-3, 1.3e-3
 NO_PERIOD = np.zeros(3)
@@ -38,18 +38,14 @@ def _cloud(seed=4):
 def _solid_passes(chunks):
     pos, vel, rho, mass, sigma_over_rho2, nl, w, f = _cloud()
     n = len(pos)
-    buf = np.zeros((chunks, n, 18))
-    vhat, grad = np.zeros((n, 3)), np.zeros((n, 3, 3))
-    xsph_velocity_and_gradient(pos, NO_PERIOD, nl.crossing, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
-                               vhat, grad, buf, False, np.zeros((n, 3, 3)))
-    drho = np.zeros(n)
-    continuity_rate(pos, NO_PERIOD, nl.crossing, rho, mass / rho, vhat, nl.start, nl.index, f, drho,
-                    np.zeros((chunks, n)))
-    acc = np.zeros((n, 3))
-    momentum_rate(pos, NO_PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sigma_over_rho2,
-                  np.zeros((n, 6)), nl.start, nl.index, H, 30.0, 1.0, 1.0, 0, 1.0, np.zeros(3), acc, w.copy(), f.copy(),
-                  buf, False, np.zeros((n, 3, 3)), block_scratch(chunks, MOMENTUM_BLOCK_COLUMNS))
-    return {"vhat": vhat, "grad_v": grad, "drho": drho, "acc": acc}
+    state = solid_bundles.state(pos, vel, rho, mass)
+    lists = solid_bundles.neighbours(nl, NO_PERIOD)
+    prm = solid_bundles.params(H, DP, sound_speed=30.0, alpha=1.0, beta=1.0, inv_w_dp=1.0)
+    work = solid_bundles.buffers(n, nl.pairs, chunks, w=w, f=f, volume=mass / rho, sigma_over_rho2=sigma_over_rho2)
+    xsph_velocity_and_gradient(state, lists, prm, work)
+    continuity_rate(state, lists, work)
+    momentum_rate(state, lists, prm, work._replace(w=w.copy(), f=f.copy()), np.zeros(3))
+    return {"vhat": work.vhat, "grad_v": work.grad_v, "drho": work.drho, "acc": state.acc}
 
 
 @pytest.mark.parametrize("chunks", [2, 5])

@@ -10,7 +10,7 @@ from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.fitted_gradient import xsph_velocity_and_mls_gradient
-from sph_fsi_core.solid.stepper import mirror_clamp_velocities
+from sph_fsi_core.solid.stepper import SolidArrays, SolidNeighbours, mirror_clamp_velocities
 
 # The pressure explicit and the fit remade, as these were measured: they watch the energy, which the implicit
 # pressure (the default scheme's) does not keep: it damps the pressure waves (test_implicit_pressure.py)
@@ -58,8 +58,10 @@ def _root_gradient_error(clamp):
     s.vel[:] = np.where(s.movable[:, None], x * (c + d * z + e * y), 0.0)
     mirror_clamp_velocities(s.vel, sim.solid_solver.clamp_mirror)
     grad = np.zeros((s.count, 3, 3))
-    xsph_velocity_and_mls_gradient(s.mass, s.rho, s.vel, nb.start, nb.index, wk.w, wk.mls_weights, 0.5,
-                                   np.zeros((s.count, 3)), grad, wk.buf)
+    solver = sim.solid_solver
+    xsph_velocity_and_mls_gradient(SolidArrays.of(s), SolidNeighbours.of(nb, solver.period),
+                                   solver.params._replace(xsph_eps=0.5),
+                                   wk.buffers()._replace(vhat=np.zeros((s.count, 3)), grad_v=grad))
     exact = np.zeros((s.count, 3, 3))
     exact[:, :, 0] = c + d * z + e * y
     exact[:, :, 1] = e * x

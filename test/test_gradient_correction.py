@@ -8,8 +8,8 @@ every particle, surface and corners included.
 """
 import numpy as np
 
+import solid_bundles
 from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.numerics.pair_blocks import block_scratch
 from sph_fsi_core.solid.gray2001 import xsph_velocity_and_gradient
 
 
@@ -26,12 +26,10 @@ def _block_gradient(velocity_gradient, correct):
     w = np.zeros(nl.pairs)
     f = np.zeros(nl.pairs)
     pair_kernel_values(pos, pos, nl.start, nl.index, h, np.zeros(3), w, f)
-    vhat = np.zeros((n, 3))
-    grad = np.zeros((n, 3, 3))
-    buf = np.zeros((2, n, 18))
-    xsph_velocity_and_gradient(pos, np.zeros(3), nl.crossing, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
-                               vhat, grad, buf, correct, np.zeros((n, 3, 3)))
-    return pos, grad
+    work = solid_bundles.buffers(n, nl.pairs, w=w, f=f, volume=mass / rho)
+    xsph_velocity_and_gradient(solid_bundles.state(pos, vel, rho, mass), solid_bundles.neighbours(nl),
+                               solid_bundles.params(h, dp, velocity_gradient="linear" if correct else "sph"), work)
+    return pos, work.grad_v
 
 
 def test_corrected_gradient_is_exact_everywhere():
@@ -54,7 +52,7 @@ def test_plain_gradient_turns_rotation_into_strain_at_surfaces():
 
 def test_momentum_pass_conserves_momentum_with_and_without_correction():
     """Each pair adds equal and opposite forces (half list), also with per-particle K^-1: sum_a m_a a_a = 0."""
-    from sph_fsi_core.solid.gray2001 import MOMENTUM_BLOCK_COLUMNS, momentum_rate
+    from sph_fsi_core.solid.gray2001 import momentum_rate
     rng = np.random.default_rng(5)
     dp, h = 1e-3, 1.3e-3
     g = (np.arange(5) + 0.5) * dp
@@ -72,9 +70,10 @@ def test_momentum_pass_conserves_momentum_with_and_without_correction():
     nl.build(pos, pos)
     for correct in (False, True):
         acc = np.zeros((n, 3))
-        momentum_rate(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sig, art, nl.start,
-                      nl.index, h, 176.0, 1.0, 1.0, 4, 1.0 / 0.2, np.zeros(3), acc, np.zeros(nl.pairs),
-                      np.zeros(nl.pairs), np.zeros((2, n, 18)), correct, kinv, block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+        momentum_rate(solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl),
+                      solid_bundles.params(h, dp, sound_speed=176.0, art_exponent=4, inv_w_dp=1.0 / 0.2,
+                                           velocity_gradient="linear" if correct else "sph"),
+                      solid_bundles.buffers(n, nl.pairs, sigma_over_rho2=sig, art_stress=art, kinv=kinv), np.zeros(3))
         total = (mass[:, None] * acc).sum(axis=0)
         scale = (mass[:, None] * np.abs(acc)).sum()
         assert scale > 0
@@ -125,10 +124,10 @@ def test_quadratic_fit_gradient_is_exact_for_quadratic_fields_on_a_thin_beam():
     vel = np.ascontiguousarray(pos @ a.T + 0.5 * np.einsum("ijk,nj,nk->ni", b, pos, pos))
     exact = a[None] + np.einsum("ijk,nk->nij", b, pos)
     n = len(pos)
-    grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_mls_gradient(mass, rho, vel, nl.start, nl.index, w, weights, 0.5, np.zeros((n, 3)), grad,
-                                   np.zeros((2, n, 18)))
-    assert np.abs(grad - exact).max() < 1e-8 * np.abs(exact).max()
+    work = solid_bundles.buffers(n, nl.pairs, w=w, mls_weights=weights)
+    xsph_velocity_and_mls_gradient(solid_bundles.state(pos, vel, rho, mass), solid_bundles.neighbours(nl),
+                                   solid_bundles.params(h, dp), work)
+    assert np.abs(work.grad_v - exact).max() < 1e-8 * np.abs(exact).max()
 
 
 def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fibres():
@@ -139,9 +138,10 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
     vel = np.ascontiguousarray(np.stack([-pos[:, 0] * zc, 0 * zc, 0.5 * pos[:, 0] ** 2], 1))
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
-    grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_gradient(pos, np.zeros(3), nl.crossing, mass, rho, mass / rho, vel, nl.start, nl.index, w, f, 0.5,
-                               np.zeros((n, 3)), grad, np.zeros((2, n, 18)), True, np.zeros((n, 3, 3)))
+    work = solid_bundles.buffers(n, nl.pairs, w=w, f=f, volume=mass / rho)
+    xsph_velocity_and_gradient(solid_bundles.state(pos, vel, rho, mass), solid_bundles.neighbours(nl),
+                               solid_bundles.params(h, dp, velocity_gradient="linear"), work)
+    grad = work.grad_v
     outer = np.isclose(zc, 1.5 * dp) & (pos[:, 0] > 4 * dp) & (pos[:, 0] < 8 * dp)
     ratio = -grad[outer, 0, 0] / zc[outer]
     assert np.all((ratio > 0.7) & (ratio < 0.9))
@@ -150,8 +150,7 @@ def test_kernel_corrected_gradient_underestimates_bending_strain_at_the_outer_fi
 def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power():
     """Pair forces are equal and opposite (sum m a = 0), and their power equals minus the stress power
     sum_a V_a sigma_a : L_a of the same gradient: the discrete system stores exactly the work it receives."""
-    from sph_fsi_core.solid.fitted_gradient import (MOMENTUM_BLOCK_COLUMNS, momentum_rate_mls, pair_variant,
-                                                    xsph_velocity_and_mls_gradient)
+    from sph_fsi_core.solid.fitted_gradient import momentum_rate_mls, xsph_velocity_and_mls_gradient
     pos, dp, h = _beam_cloud(jitter=0.05, seed=3)
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
@@ -160,18 +159,20 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     sigma = rng.normal(scale=1e3, size=(n, 6))
     acc = np.zeros((n, 3))
     refreshed = np.zeros_like(weights)
-    momentum_rate_mls(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel,
-                      sigma / rho[:, None] ** 2, np.zeros((n, 6)), nl.start, nl.index, h, 176.0, 0.0, 0.0, 0, 1.0,
-                      np.zeros(3), rows, acc, w, f, refreshed, np.zeros((2, n, 18)), np.zeros((0, 3, 9)),
-                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS), pair_variant(False, 0))
+    state, lists = solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl)
+    prm = solid_bundles.params(h, dp, sound_speed=176.0, alpha=0.0, beta=0.0, inv_w_dp=1.0,
+                               velocity_gradient="quadratic")
+    momentum_rate_mls(state, lists, prm, solid_bundles.buffers(n, nl.pairs, w=w, f=f, mls_rows=rows,
+                                                               mls_weights=refreshed,
+                                                               sigma_over_rho2=sigma / rho[:, None] ** 2), np.zeros(3))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)
     scale = (mass[:, None] * np.abs(acc)).sum()
     assert scale > 0 and np.abs(total).max() < 1e-12 * scale
-    grad = np.zeros((n, 3, 3))
-    xsph_velocity_and_mls_gradient(mass, rho, vel, nl.start, nl.index, w, weights, 0.0, np.zeros((n, 3)), grad,
-                                   np.zeros((2, n, 18)))
+    work = solid_bundles.buffers(n, nl.pairs, w=w, mls_weights=weights)
+    xsph_velocity_and_mls_gradient(state, lists, prm._replace(xsph_eps=0.0), work)
+    grad = work.grad_v
     full = np.zeros((n, 3, 3))
     for k, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))):
         full[:, i, j] = full[:, j, i] = sigma[:, k]

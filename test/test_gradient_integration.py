@@ -10,10 +10,9 @@ from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.gradient_integration import gradient_force_rows, gradient_strain_energy, velocity_hessian
-from sph_fsi_core.numerics.pair_blocks import block_scratch
-from sph_fsi_core.solid.fitted_gradient import (MOMENT_COUNT, MOMENTUM_BLOCK_COLUMNS, N_BASIS, mls_fit_rows,
-                                                momentum_rate_mls, pair_variant)
+from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls, pair_variant
 from sph_fsi_core.numerics.tensors import SYM_INDEX
+import solid_bundles
 
 
 def _jittered_bar(seed):
@@ -39,10 +38,10 @@ def _jittered_bar(seed):
 
 def _hessian(pos, h, mass, rho, nl, rows, w, vel):
     n = len(pos)
-    hessian = np.zeros((n, 3, 6))
-    velocity_hessian(pos, np.zeros(3), nl.crossing, mass / rho, vel, nl.start, nl.index, h, rows, w, hessian,
-                     np.zeros((2, n, 27)))
-    return hessian
+    work = solid_bundles.buffers(n, nl.pairs, hessian_rows=True, volume=mass / rho, mls_rows=rows, w=w)
+    velocity_hessian(solid_bundles.state(pos, vel, rho, mass), solid_bundles.neighbours(nl),
+                     solid_bundles.params(h, 1e-3), work)
+    return work.hessian
 
 
 def test_fitted_hessian_is_exact_for_quadratic_velocity_fields_up_to_the_corners():
@@ -69,10 +68,12 @@ def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_po
     force_rows = np.zeros((n, 3, 9))
     gradient_force_rows(mass, rho, t, cell_moment, rows, force_rows)
     # the momentum pass with no stress and no viscosity: the stress gradient's force alone
-    momentum_rate_mls(pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, np.zeros((n, 6)),
-                      np.zeros((n, 6)), nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, acc, w,
-                      np.zeros(nl.pairs), np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), force_rows,
-                      block_scratch(2, MOMENTUM_BLOCK_COLUMNS), pair_variant(True, 0))
+    prm = solid_bundles.params(h, 1e-3, sound_speed=1.0, alpha=0.0, beta=0.0, inv_w_dp=1.0,
+                               velocity_gradient="quadratic", nodal_integration="gradient")
+    assert prm.pair_variant == pair_variant(True, 0)
+    momentum_rate_mls(solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl), prm,
+                      solid_bundles.buffers(n, nl.pairs, hessian_rows=True, mls_rows=rows, w=w,
+                                            force_rows=force_rows), np.zeros(3))
     force = mass[:, None] * acc
     assert np.abs(force.sum(axis=0)).max() < 1e-12 * np.abs(force).sum()
     hessian = _hessian(pos, h, mass, rho, nl, rows, w, vel)
@@ -93,13 +94,14 @@ def test_momentum_pass_refuses_a_pair_variant_that_does_not_match_its_force_rows
     force rows that carry it would leave the gradient force out of the block and read stale columns; refused."""
     pos, h, mass, rho, nl, rows, w = _jittered_bar(seed=9)
     n = len(pos)
-    args = (pos, np.zeros(3), nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, np.zeros((n, 3)), np.zeros((n, 6)),
-            np.zeros((n, 6)), nl.start, nl.index, h, 1.0, 0.0, 0.0, 0, 1.0, np.zeros(3), rows, np.zeros((n, 3)), w,
-            np.zeros(nl.pairs), np.zeros((nl.pairs, 6)), np.zeros((2, n, 18)), np.zeros((n, 3, 9)),
-            block_scratch(2, MOMENTUM_BLOCK_COLUMNS))
+    prm = solid_bundles.params(h, 1e-3, sound_speed=1.0, alpha=0.0, beta=0.0, inv_w_dp=1.0,
+                               velocity_gradient="quadratic", pair_variant=pair_variant(False, 0))
+    work = solid_bundles.buffers(n, nl.pairs, hessian_rows=True, mls_rows=rows, w=w)
+    assert work.force_rows.shape == (n, 3, 9)
     assert pair_variant(True, 0) == () and pair_variant(True, 4) == (0,) and pair_variant(False, 3) == (0,) * 5
     with pytest.raises(ValueError, match="pair variant"):
-        momentum_rate_mls(*args, pair_variant(False, 0))
+        momentum_rate_mls(solid_bundles.state(pos, np.zeros((n, 3)), rho, mass), solid_bundles.neighbours(nl), prm,
+                          work, np.zeros(3))
 
 
 def test_gradient_energy_of_a_bent_lattice_beam_makes_up_the_missing_second_moment():

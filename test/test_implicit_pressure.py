@@ -18,6 +18,7 @@ from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid import implicit_pressure as ip
+from sph_fsi_core.solid.stepper import SolidArrays, SolidNeighbours
 
 BEAM = ["output.snapshot_interval=0", "solid.pressure=implicit"]
 
@@ -41,9 +42,12 @@ def _solve(sim, vel, pressure, movable=None, mirror=None, dt=None, tolerance=1e-
     dt = sim.last_solid_dt if dt is None else dt
     stats = np.zeros(4, dtype=np.int64)
     scalars = np.zeros((6, s.count))
-    ip.implicit_pressure_step(dt, vel, rho, s.mass / rho, p_in, s.mass, movable, mirror, prm.c0 ** 2, nb.start,
-                              nb.index, wk.mls_weights, tolerance, 500, scalars, np.zeros((2, s.count, 3)),
-                              np.zeros((s.count, 3)), wk.vector_buf, wk.scalar_buf, stats)
+    state = SolidArrays.of(s)._replace(vel=vel, rho=rho, pressure=p_in, movable=movable)
+    work = wk.buffers()._replace(volume=s.mass / rho, pressure_scalars=scalars,
+                                 pressure_vectors=np.zeros((2, s.count, 3)), pressure_force=np.zeros((s.count, 3)),
+                                 pressure_stats=stats)
+    ip.implicit_pressure_step(dt, state, SolidNeighbours.of(nb, sim.solid_solver.period), prm._replace(
+        pressure_tolerance=tolerance, pressure_max_iterations=500), work, mirror)
     assert np.array_equal(rho, rho_in) and np.array_equal(p_in, pressure)
     return vel, pressure + scalars[0], stats
 
@@ -106,11 +110,13 @@ def test_the_operator_is_symmetric_positive_definite(beam):
     a = np.zeros((len(index), len(index)))
     x, y, theta = np.zeros(n), np.zeros(n), np.zeros(n)
     force, u = np.zeros((n, 3)), np.zeros((n, 3))
+    state = SolidArrays.of(s)
+    lists = SolidNeighbours.of(nb, beam.solid_solver.period)
+    work = wk.buffers()._replace(volume=volume, vector_buf=wk.buf, pressure_force=force)
     for col, i in enumerate(index):
         x[:] = 0.0
         x[i] = 1.0
-        ip._apply(x, volume, s.rho, prm.c0 ** 2, s.mass, s.movable, beam.solid_solver.clamp_mirror, nb.start, nb.index,
-                  wk.mls_weights, dt, wk.buf, wk.scalar_buf, force, u, theta, y)
+        ip._apply(x, state, lists, work, prm.c0 ** 2, beam.solid_solver.clamp_mirror, dt, u, theta, y)
         a[:, col] = y[index]
     assert np.abs(a - a.T).max() < 1e-12 * np.abs(a).max()
     # the dynamic part dominates the compliance V / K at this step: not a diagonal matrix in disguise

@@ -9,6 +9,8 @@ one axis is periodic, so the minimum-image and several-block paths are exercised
 import numpy as np
 import pytest
 
+import solid_bundles
+
 from sph_fsi_core.fluid.okaji import (DENSITY_BLOCK_COLUMNS, VISCOUS_BLOCK_COLUMNS, summation_density,
                                      viscous_velocity)
 from sph_fsi_core.numerics.kernels import cubic_spline_f, cubic_spline_w
@@ -16,11 +18,9 @@ from sph_fsi_core.numerics.neighbours import NeighbourList
 from sph_fsi_core.numerics.periodic import xz_periodic_marker
 from sph_fsi_core.numerics.pair_blocks import BLOCK, block_scratch
 from sph_fsi_core.solid.gradient_integration import gradient_force_rows
-from sph_fsi_core.solid.gray2001 import MOMENTUM_BLOCK_COLUMNS as GRAY_COLUMNS
 from sph_fsi_core.schema import MAX_ART_EXPONENT
 from sph_fsi_core.solid.gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
 from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls, pair_variant
-from sph_fsi_core.solid.fitted_gradient import MOMENTUM_BLOCK_COLUMNS as MLS_COLUMNS
 from sph_fsi_core.numerics.tensors import SYM_INDEX
 
 DP = 1e-3
@@ -192,16 +192,14 @@ def test_solid_passes_skip_the_minimum_image_only_where_it_changes_nothing():
     volume = mass / rho
 
     def passes(crossing):
-        w, f = np.zeros(nl.pairs), np.zeros(nl.pairs)
-        acc = np.zeros((n, 3))
-        momentum_rate(moved, PERIOD, crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start,
-                      nl.index, H, 30.0, 1.0, 1.0, 4, 1.0 / cubic_spline_w(DP, H), np.zeros(3), acc, w, f,
-                      np.zeros((CHUNKS, n, 18)), False, np.zeros((n, 3, 3)), block_scratch(CHUNKS, GRAY_COLUMNS))
-        vhat, grad, drho = np.zeros((n, 3)), np.zeros((n, 3, 3)), np.zeros(n)
-        xsph_velocity_and_gradient(moved, PERIOD, crossing, mass, rho, volume, vel, nl.start, nl.index, w, f, 0.5,
-                                   vhat, grad, np.zeros((CHUNKS, n, 18)), False, np.zeros((n, 3, 3)))
-        continuity_rate(moved, PERIOD, crossing, rho, volume, vhat, nl.start, nl.index, f, drho, np.zeros((CHUNKS, n)))
-        return acc, w, vhat, grad, drho
+        state = solid_bundles.state(moved, vel, rho, mass)
+        lists = solid_bundles.neighbours(nl, PERIOD, crossing)
+        prm = solid_bundles.params(H, DP, sound_speed=30.0, art_exponent=4)
+        work = solid_bundles.buffers(n, nl.pairs, CHUNKS, volume=volume, sigma_over_rho2=sor2, art_stress=art)
+        momentum_rate(state, lists, prm, work, np.zeros(3))
+        xsph_velocity_and_gradient(state, lists, prm, work)
+        continuity_rate(state, lists, work)
+        return state.acc, work.w, work.vhat, work.grad_v, work.drho
 
     flagged, everywhere = passes(nl.crossing), passes(np.ones(n, dtype=np.bool_))
     assert all(np.array_equal(x, y) for x, y in zip(flagged, everywhere))
@@ -247,10 +245,12 @@ def test_gray_momentum_pass_equals_eq_5_summed_over_every_pair(exponent, correct
     nl = _half_list(pos)
     alpha, beta, c0, w_dp = 1.0, 1.0, 30.0, cubic_spline_w(DP, H)
     acc = np.zeros((n, 3))
-    w, f = np.zeros(nl.pairs), np.zeros(nl.pairs)
-    momentum_rate(pos, PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start, nl.index,
-                  H, c0, alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), acc, w, f, np.zeros((CHUNKS, n, 18)), correct,
-                  kinv, block_scratch(CHUNKS, GRAY_COLUMNS))
+    work = solid_bundles.buffers(n, nl.pairs, CHUNKS, sigma_over_rho2=sor2, art_stress=art, kinv=kinv)
+    prm = solid_bundles.params(H, DP, sound_speed=c0, alpha=alpha, beta=beta, art_exponent=exponent,
+                               inv_w_dp=1.0 / w_dp, velocity_gradient="linear" if correct else "sph")
+    momentum_rate(solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl, PERIOD), prm, work,
+                  np.zeros(3))
+    w = work.w
     d = _separations(pos, pos)
     r, wk, fk = _kernel_pairs(d)
     inside = (r < 2 * H) & (r > 0.0)
@@ -290,11 +290,15 @@ def test_quadratic_fit_momentum_pass_equals_its_pair_forces_summed_over_every_pa
         gradient_force_rows(mass, rho, rng.normal(scale=1e6, size=(n, 3, 6)), DP * DP / 12.0, rows, force_rows)
     alpha, beta, c0, w_dp = 1.0, 0.5, 30.0, cubic_spline_w(DP, H)
     acc = np.zeros((n, 3))
-    w, f, weights = np.zeros(nl.pairs), np.zeros(nl.pairs), np.zeros((nl.pairs, 6))
-    momentum_rate_mls(pos, PERIOD, nl.crossing, mass, np.ones(n, dtype=np.bool_), rho, vel, sor2, art, nl.start,
-                      nl.index, H, c0, alpha, beta, exponent, 1.0 / w_dp, np.zeros(3), rows, acc, w, f, weights,
-                      np.zeros((CHUNKS, n, 18)), force_rows, block_scratch(CHUNKS, MLS_COLUMNS),
-                      pair_variant(gradient, exponent))
+    weights = np.zeros((nl.pairs, 6))
+    prm = solid_bundles.params(H, DP, sound_speed=c0, alpha=alpha, beta=beta, art_exponent=exponent,
+                               inv_w_dp=1.0 / w_dp, velocity_gradient="quadratic",
+                               nodal_integration="gradient" if gradient else "plain")
+    assert prm.pair_variant == pair_variant(gradient, exponent)
+    work = solid_bundles.buffers(n, nl.pairs, CHUNKS, hessian_rows=gradient, sigma_over_rho2=sor2, art_stress=art,
+                                 mls_rows=rows, mls_weights=weights, force_rows=force_rows)
+    momentum_rate_mls(solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl, PERIOD), prm,
+                      work, np.zeros(3))
     d = _separations(pos, pos)                                            # r_a - r_b
     r, wk, fk = _kernel_pairs(d)
     inside = (r < 2 * H) & (r > 0.0)

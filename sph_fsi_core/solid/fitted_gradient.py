@@ -35,7 +35,7 @@ from ..numerics.periodic import minimum_image
 from ..numerics.pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE,
                           gather_motion, gather_tensors, minimum_image_block, pad_block, padded)
 from .gradient_integration import basis_dot, quadratic_monomials
-from .gray2001 import sum_velocity_chunks, viscous_and_artificial_stress_terms
+from .gray2001 import pair_terms, sum_velocity_chunks, viscous_and_artificial_stress_terms, xsph_pair
 from ..numerics.tensors import XX, XY, XZ, YY, YZ, ZZ
 
 N_BASIS = 9
@@ -217,13 +217,51 @@ def _store_pair_weights(rows, a, b, ux, uy, uz, scale_ab, scale_ba, weights, s):
     return gab0, gab1, gab2, gba0, gba1, gba2
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsph_eps, vhat, grad_v, buf):
-    """XSPH velocity, eq. (4), and the quadratic-fit velocity gradient L_a = sum_b (v_b - v_a) (x) G_ab.
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _fitted_gradient_pair(out, b, s, weights, dvx, dvy, dvz, l):
+    """The pair's terms of L: dv (x) G_ab added to a's nine sums `l` (returned), -dv (x) G_ba to b's, columns 3-11
+    of its chunk buffer row; dv = v_b - v_a, `weights` (pairs, 6) the pair cache (G_ab, G_ba)."""
+    g0 = weights[s, 0]
+    g1 = weights[s, 1]
+    g2 = weights[s, 2]
+    l = (l[0] + dvx * g0, l[1] + dvx * g1, l[2] + dvx * g2, l[3] + dvy * g0, l[4] + dvy * g1, l[5] + dvy * g2,
+         l[6] + dvz * g0, l[7] + dvz * g1, l[8] + dvz * g2)
+    g0 = weights[s, 3]
+    g1 = weights[s, 4]
+    g2 = weights[s, 5]
+    out[b, 3] -= dvx * g0
+    out[b, 4] -= dvx * g1
+    out[b, 5] -= dvx * g2
+    out[b, 6] -= dvy * g0
+    out[b, 7] -= dvy * g1
+    out[b, 8] -= dvy * g2
+    out[b, 9] -= dvz * g0
+    out[b, 10] -= dvz * g1
+    out[b, 11] -= dvz * g2
+    return l
 
-    Half list with per-chunk buffers (chunks, N, >= 12), as xsph_velocity_and_gradient; `w` and `weights`
-    (pairs, 6: G_ab then G_ba) are the pair caches at the current positions (mls_pair_weights, momentum_rate_mls).
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def xsph_velocity_and_mls_gradient(state, neighbours, prm, work):
+    """XSPH velocity, eq. (4), and the quadratic-fit velocity gradient L_a = sum_b (v_b - v_a) (x) G_ab, into
+    work.vhat and work.grad_v.
+
+    Half list with per-chunk buffers (work.buf, chunks x N x >= 12), as gray2001.xsph_velocity_and_gradient;
+    work.w and work.mls_weights (pairs, 6: G_ab then G_ba) are the pair caches at the current positions
+    (mls_pair_weights, momentum_rate_mls). `state`: solid.stepper.SolidArrays, `neighbours`: SolidNeighbours,
+    `prm`: SolidParams, `work`: SolidBuffers.
     """
+    mass = state.mass
+    rho = state.rho
+    vel = state.vel
+    w = work.w
+    weights = work.mls_weights
+    vhat = work.vhat
+    grad_v = work.grad_v
+    buf = work.buf
+    start = neighbours.start
+    index = neighbours.index
+    xsph_eps = prm.xsph_eps
     n = vel.shape[0]
     chunks = buf.shape[0]
     for c in prange(chunks):
@@ -232,55 +270,27 @@ def xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, weights, xsp
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
             # particle a's sums stay in registers; only b's go through the chunk buffer
             xa = ya = za = 0.0
-            lxx = lxy = lxz = lyx = lyy = lyz = lzx = lzy = lzz = 0.0
+            zero = 0.0
+            l = (zero, zero, zero, zero, zero, zero, zero, zero, zero)
             for s in range(unsigned(start[a]), unsigned(start[a + 1])):
                 b = index[s]
                 dvx = vel[b, 0] - vel[a, 0]
                 dvy = vel[b, 1] - vel[a, 1]
                 dvz = vel[b, 2] - vel[a, 2]
-                k = w[s] / (0.5 * (rho[a] + rho[b]))
-                xa += mass[b] * k * dvx
-                ya += mass[b] * k * dvy
-                za += mass[b] * k * dvz
-                out[b, 0] -= mass[a] * k * dvx
-                out[b, 1] -= mass[a] * k * dvy
-                out[b, 2] -= mass[a] * k * dvz
-                g0 = weights[s, 0]
-                g1 = weights[s, 1]
-                g2 = weights[s, 2]
-                lxx += dvx * g0
-                lxy += dvx * g1
-                lxz += dvx * g2
-                lyx += dvy * g0
-                lyy += dvy * g1
-                lyz += dvy * g2
-                lzx += dvz * g0
-                lzy += dvz * g1
-                lzz += dvz * g2
-                g0 = weights[s, 3]
-                g1 = weights[s, 4]
-                g2 = weights[s, 5]
-                out[b, 3] -= dvx * g0
-                out[b, 4] -= dvx * g1
-                out[b, 5] -= dvx * g2
-                out[b, 6] -= dvy * g0
-                out[b, 7] -= dvy * g1
-                out[b, 8] -= dvy * g2
-                out[b, 9] -= dvz * g0
-                out[b, 10] -= dvz * g1
-                out[b, 11] -= dvz * g2
+                xa, ya, za = xsph_pair(out, a, b, mass, rho, w[s], dvx, dvy, dvz, xa, ya, za)
+                l = _fitted_gradient_pair(out, b, s, weights, dvx, dvy, dvz, l)
             out[a, 0] += xa
             out[a, 1] += ya
             out[a, 2] += za
-            out[a, 3] += lxx
-            out[a, 4] += lxy
-            out[a, 5] += lxz
-            out[a, 6] += lyx
-            out[a, 7] += lyy
-            out[a, 8] += lyz
-            out[a, 9] += lzx
-            out[a, 10] += lzy
-            out[a, 11] += lzz
+            out[a, 3] += l[0]
+            out[a, 4] += l[1]
+            out[a, 5] += l[2]
+            out[a, 6] += l[3]
+            out[a, 7] += l[4]
+            out[a, 8] += l[5]
+            out[a, 9] += l[6]
+            out[a, 10] += l[7]
+            out[a, 11] += l[8]
     for a in prange(n):
         sum_velocity_chunks(buf, a, vel, xsph_eps, vhat, grad_v)
 
@@ -322,17 +332,17 @@ def _rows_tuple(r):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2, sound_speed, alpha,
-              beta, art_exponent, inv_w_dp, gradient_integration):
+def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, art_exponent, gradient_integration):
     """Pair j of a block in _mls_pair_block; rows_a, sa, ra: particle a's fit rows, sigma / rho^2 and R_a as
-    tuples (values kept in registers)."""
+    tuples (values kept in registers); `terms`: gray2001.PairTerms."""
+    inv_h = terms.inv_h
     sa0, sa1, sa2, sa3, sa4, sa5 = sa
     rx = block[_RX * STRIDE + j]
     ry = block[_RY * STRIDE + j]
     rz = block[_RZ * STRIDE + j]
     r2 = rx * rx + ry * ry + rz * rz
     block[_R2 * STRIDE + j] = r2
-    wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, sigma_k)
+    wab, fab = cubic_spline_wf(math.sqrt(r2), inv_h, terms.sigma)
     block[_W * STRIDE + j] = wab
     block[_F * STRIDE + j] = fab
     ux = -rx * inv_h
@@ -348,8 +358,8 @@ def _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, 
     block[_F_A * STRIDE + j] = ka * (sa0 * gab0 + sa3 * gab1 + sa4 * gab2)
     block[(_F_A + 1) * STRIDE + j] = ka * (sa3 * gab0 + sa1 * gab1 + sa5 * gab2)
     block[(_F_A + 2) * STRIDE + j] = ka * (sa4 * gab0 + sa5 * gab1 + sa2 * gab2)
-    txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(
-        block, j, _R_B, ra, rho_a, rx, ry, rz, r2, wab, h, eta2, sound_speed, alpha, beta, art_exponent, inv_w_dp)
+    txx, tyy, tzz, txy, txz, tyz = viscous_and_artificial_stress_terms(block, j, _R_B, ra, rho_a, rx, ry, rz, r2, wab,
+                                                                       terms, art_exponent)
     mm = mass_a * block[_MASS_B * STRIDE + j]
     gx = fab * rx
     gy = fab * ry
@@ -374,8 +384,7 @@ def pair_variant(gradient_integration, art_exponent):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _mls_pair_block(block, m, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2, sound_speed,
-                    alpha, beta, art_exponent, inv_w_dp, variant):
+def _mls_pair_block(block, m, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, art_exponent, variant):
     """What particle a contributes to the pair terms of momentum_rate_mls, for the m pairs of a block: r^2, W_ab,
     F_ab, G_ab = (V_b W_ab / h) R_a p(u), a's stress part V_a sigma_a G_ab (_F_A), the viscosity and artificial
     stress part (_F_AV) and a's half of the stress gradient's force (_F_GRAD_A). b's parts need b's fit rows and
@@ -383,67 +392,178 @@ def _mls_pair_block(block, m, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, i
 
     One loop per setting (`variant`, pair_variant: no artificial stress, Gray's n = 4, another n; with or without
     the gradient integration), each with its options as constants: a branch inside a SIMD loop runs both sides on
-    every pair. The setting is the tuple's length, a constant of its type, so only its own loop is compiled."""
+    every pair. The setting is the tuple's length, a constant of its type, so only its own loop is compiled.
+    `terms`: gray2001.PairTerms."""
     sa = (sa[XX], sa[YY], sa[ZZ], sa[XY], sa[XZ], sa[YZ])
     ra = (ra[XX], ra[YY], ra[ZZ], ra[XY], ra[XZ], ra[YZ])
     rows_a = _rows_tuple(rows_a)
     if len(variant) == 0:
         for j in range(m):
-            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                      sound_speed, alpha, beta, 0, inv_w_dp, True)
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, 0, True)
     elif len(variant) == 1:
         for j in range(m):
-            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                      sound_speed, alpha, beta, 4, inv_w_dp, True)
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, 4, True)
     elif len(variant) == 2:
         for j in range(m):
-            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                      sound_speed, alpha, beta, art_exponent, inv_w_dp, True)
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, art_exponent, True)
     elif len(variant) == 3:
         for j in range(m):
-            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                      sound_speed, alpha, beta, 0, inv_w_dp, False)
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, 0, False)
     elif len(variant) == 4:
         for j in range(m):
-            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                      sound_speed, alpha, beta, 4, inv_w_dp, False)
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, 4, False)
     else:
         for j in range(m):
-            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, inv_h, sigma_k, h, eta2,
-                      sound_speed, alpha, beta, art_exponent, inv_w_dp, False)
+            _mls_pair(block, j, rows_a, sa, ra, force_rows_a, mass_a, rho_a, ka, terms, art_exponent, False)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _gather_mls_block(block, a, lo, m, state, neighbours, half_period, work, h, art_exponent):
+    """Pairs lo..lo+m-1 of a's row into the block's columns (pair_blocks.py): the pair's motion, b's mass and R_b
+    (with the artificial stress); r_a - r_b through the minimum image on a row that may need it
+    (NeighbourList.crossing)."""
+    pos = state.pos
+    vel = state.vel
+    mass = state.mass
+    index = neighbours.index
+    period = neighbours.period
+    gather_motion(block, index, lo, m, pos[a, 0], pos[a, 1], pos[a, 2], vel[a, 0], vel[a, 1], vel[a, 2], pos, vel,
+                  state.rho, h)
+    for j in range(m):
+        block[_MASS_B * STRIDE + j] = mass[index[unsigned(lo + j)]]
+    pad_block(block, m, _MASS_B, 0.0, 0, 0, 0.0)
+    if art_exponent > 0:
+        gather_tensors(block, _R_B, index, lo, m, work.art_stress)
+    if (period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0) and neighbours.crossing[a]:
+        minimum_image_block(block, _RX, m, period, half_period)
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _pair_weights_ba(block, j, s, rows_b, va, inv_h, weights):
+    """The pair's weights G_ab (from the block) and G_ba = (V_a W_ab / h) R_b p(-u) into the pair cache `weights`
+    (pairs, 6); returns u = (x_b - x_a) / h, W_ab and G_ba."""
+    wab = block[_W * STRIDE + j]
+    ux = -block[_RX * STRIDE + j] * inv_h
+    uy = -block[_RY * STRIDE + j] * inv_h
+    uz = -block[_RZ * STRIDE + j] * inv_h
+    qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
+    gba0, gba1, gba2 = _pair_weight_vector(rows_b, -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz, va * wab * inv_h)
+    weights[s, 0] = block[_G_AB * STRIDE + j]
+    weights[s, 1] = block[(_G_AB + 1) * STRIDE + j]
+    weights[s, 2] = block[(_G_AB + 2) * STRIDE + j]
+    weights[s, 3] = gba0
+    weights[s, 4] = gba1
+    weights[s, 5] = gba2
+    return ux, uy, uz, wab, gba0, gba1, gba2
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _pair_force(block, j, kb, sb, gba0, gba1, gba2):
+    """The pair's force F_ab on a: the stress part V_a sigma_a G_ab - V_b sigma_b G_ba (a's from the block, b's
+    with kb = m_b rho_b, V_b sigma_b = kb sigma_b / rho_b^2 = kb sb) plus the viscosity and artificial stress."""
+    fx = (block[_F_A * STRIDE + j] - kb * (sb[XX] * gba0 + sb[XY] * gba1 + sb[XZ] * gba2))
+    fy = (block[(_F_A + 1) * STRIDE + j] - kb * (sb[XY] * gba0 + sb[YY] * gba1 + sb[YZ] * gba2))
+    fz = (block[(_F_A + 2) * STRIDE + j] - kb * (sb[XZ] * gba0 + sb[YZ] * gba1 + sb[ZZ] * gba2))
+    fx += block[_F_AV * STRIDE + j]
+    fy += block[(_F_AV + 1) * STRIDE + j]
+    fz += block[(_F_AV + 2) * STRIDE + j]
+    return fx, fy, fz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _gradient_force(block, j, s_ba, force_rows_b, ux, uy, uz, fx, fy, fz):
+    """The stress gradient's pair force Phi_ab - Phi_ba added to (fx, fy, fz): a's half from the block, b's
+    s_ba A_b[i] . p(-u) (solid/gradient_integration.py)."""
+    fx += block[_F_GRAD_A * STRIDE + j] - s_ba * basis_dot(force_rows_b[0], -ux, -uy, -uz)
+    fy += block[(_F_GRAD_A + 1) * STRIDE + j] - s_ba * basis_dot(force_rows_b[1], -ux, -uy, -uz)
+    fz += block[(_F_GRAD_A + 2) * STRIDE + j] - s_ba * basis_dot(force_rows_b[2], -ux, -uy, -uz)
+    return fx, fy, fz
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+def _scatter_mls_block(block, a, lo, m, state, index, work, va, inv_h, support2, gradient_integration, out, fax, fay,
+                       faz):
+    """The block's pairs as b sees them: the pair caches (w, f and the weights G_ab, G_ba; zeros for a pair in the
+    list's skin beyond the support), the pair force F_ab added to a's sums (returned) and -F_ab to b's chunk buffer
+    row; pairs of two clamp particles only refresh the caches."""
+    mass = state.mass
+    rho = state.rho
+    movable = state.movable
+    w = work.w
+    f = work.f
+    weights = work.mls_weights
+    rows = work.mls_rows
+    sigma_over_rho2 = work.sigma_over_rho2
+    force_rows = work.force_rows
+    movable_a = movable[a]
+    for j in range(m):
+        s = unsigned(lo + j)
+        if block[_R2 * STRIDE + j] >= support2:   # in the list's skin, outside the kernel: idle
+            w[s] = 0.0
+            f[s] = 0.0
+            for k in range(6):
+                weights[s, k] = 0.0
+            continue
+        b = index[s]
+        w[s] = block[_W * STRIDE + j]
+        f[s] = block[_F * STRIDE + j]
+        ux, uy, uz, wab, gba0, gba1, gba2 = _pair_weights_ba(block, j, s, rows[b], va, inv_h, weights)
+        if not (movable_a or movable[b]):
+            continue
+        fx, fy, fz = _pair_force(block, j, mass[b] * rho[b], sigma_over_rho2[b], gba0, gba1, gba2)
+        if gradient_integration:
+            fx, fy, fz = _gradient_force(block, j, va * wab * inv_h * inv_h, force_rows[b], ux, uy, uz, fx, fy, fz)
+        # forces here, accelerations once per particle below (one division instead of six per pair)
+        fax += fx
+        fay += fy
+        faz += fz
+        out[b, 0] -= fx
+        out[b, 1] -= fy
+        out[b, 2] -= fz
+    return fax, fay, faz
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, h,
-                      sound_speed, alpha, beta, art_exponent, inv_w_dp, body_acc, rows, acc, w, f, weights, buf,
-                      force_rows, blocks, variant):
-    """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above).
+def momentum_rate_mls(state, neighbours, prm, work, body_acc):
+    """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above), into
+    state.acc (body_acc added).
 
     Stress part of the pair: F_ab = V_a sigma_a G_ab - V_b sigma_b G_ba (+F on a, -F on b). The artificial
     viscosity and artificial stress keep Gray's pair form m_a m_b (-Pi_ab I + R_ab f_ab^n) . grad_a W_ab.
-    sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair caches (w, f and
-    the weights G_ab, G_ba) for the next step's gradient pass. Pairs in the list's skin but beyond the kernel's
-    support get zeros in the caches and no force; so do pairs of two clamp particles (`movable` False), whose
-    forces act on no moving particle (with the mirrored clamp they would move the ghosts' images: the ghosts'
-    relative motion is not the material's). Forces are summed per pair and divided by the mass once per particle.
-    With the strain-gradient nodal integration (`force_rows` (N, 3, 9) from gradient_force_rows; empty when it is
-    off) the pair also carries the stress gradient's force (Phi_ab - Phi_ba of solid/gradient_integration.py),
-    here where u and W_ab are at hand rather than in a pass of its own.
+    work.sigma_over_rho2 is sigma / rho^2, so V sigma = m rho (sigma / rho^2). Refreshes the pair caches (work.w,
+    work.f and the weights G_ab, G_ba in work.mls_weights) for the next step's gradient pass. Pairs in the list's
+    skin but beyond the kernel's support get zeros in the caches and no force; so do pairs of two clamp particles
+    (state.movable False), whose forces act on no moving particle (with the mirrored clamp they would move the
+    ghosts' images: the ghosts' relative motion is not the material's). Forces are summed per pair and divided by
+    the mass once per particle. With the strain-gradient nodal integration (work.force_rows (N, 3, 9) from
+    gradient_force_rows; empty when it is off) the pair also carries the stress gradient's force (Phi_ab - Phi_ba of
+    solid/gradient_integration.py), here where u and W_ab are at hand rather than in a pass of its own.
 
-    In blocks (pair_blocks.py; `blocks`: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns): what needs only
+    In blocks (pair_blocks.py; work.blocks: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns): what needs only
     particle a's rows and stress runs in SIMD lanes (_mls_pair_block); b's weights G_ba, its stress part and its
     half of the gradient force, which need b's 27 fit numbers (27 more with the gradient integration), per pair in
-    the scatter loop, where they are read in place. crossing: the rows that may need the minimum image
-    (neighbours.NeighbourList.crossing; the others take plain differences, the same bits). `variant`:
-    pair_variant(gradient integration on, art_exponent), the setting as a type.
+    the scatter loop, where they are read in place. prm.pair_variant: pair_variant(gradient integration on,
+    art_exponent), the setting as a type. Arguments as in xsph_velocity_and_mls_gradient.
     """
-    half_period = 0.5 * period
-    periodic = period[0] > 0.0 or period[1] > 0.0 or period[2] > 0.0
-    eta2 = 0.01 * h * h
-    inv_h = 1.0 / h
+    mass = state.mass
+    rho = state.rho
+    acc = state.acc
+    sigma_over_rho2 = work.sigma_over_rho2
+    art_stress = work.art_stress
+    rows = work.mls_rows
+    force_rows = work.force_rows
+    buf = work.vector_buf
+    blocks = work.blocks
+    start = neighbours.start
+    index = neighbours.index
+    h = prm.h
+    art_exponent = prm.art_exponent
+    variant = prm.pair_variant
+    terms = pair_terms(prm)
+    inv_h = terms.inv_h
     support2 = support_squared(h)
-    sigma_k = kernel_normalisation(h)
-    n = vel.shape[0]
+    half_period = 0.5 * neighbours.period
+    n = mass.shape[0]
     gradient_integration = force_rows.shape[0] == n
     if gradient_integration != (len(variant) < 3):
         raise ValueError("momentum_rate_mls: the pair variant does not match force_rows (pair_variant)")
@@ -453,75 +573,16 @@ def momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over
         block = blocks[c]
         out[:, 0:3] = 0.0
         for a in range(chunk_first_target(start, c, chunks), chunk_first_target(start, c + 1, chunks)):
-            xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
-            vxa, vya, vza = vel[a, 0], vel[a, 1], vel[a, 2]
             va = mass[a] / rho[a]
-            ka = mass[a] * rho[a]
-            movable_a = movable[a]
             fax = fay = faz = 0.0
             for lo in range(start[a], start[a + 1], BLOCK):
                 m = min(BLOCK, start[a + 1] - lo)
-                gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho, h)
-                for j in range(m):
-                    block[_MASS_B * STRIDE + j] = mass[index[unsigned(lo + j)]]
-                pad_block(block, m, _MASS_B, 0.0, 0, 0, 0.0)
-                if art_exponent > 0:
-                    gather_tensors(block, _R_B, index, lo, m, art_stress)
-                if periodic and crossing[a]:
-                    minimum_image_block(block, _RX, m, period, half_period)
-                _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a], force_rows[a] if
-                                gradient_integration else rows[a], mass[a], rho[a], ka, inv_h, sigma_k, h, eta2,
-                                sound_speed, alpha, beta, art_exponent, inv_w_dp, variant)
-                for j in range(m):
-                    s = unsigned(lo + j)
-                    if block[_R2 * STRIDE + j] >= support2:   # in the list's skin, outside the kernel: idle
-                        w[s] = 0.0
-                        f[s] = 0.0
-                        for k in range(6):
-                            weights[s, k] = 0.0
-                        continue
-                    b = index[s]
-                    wab = block[_W * STRIDE + j]
-                    w[s] = wab
-                    f[s] = block[_F * STRIDE + j]
-                    ux = -block[_RX * STRIDE + j] * inv_h
-                    uy = -block[_RY * STRIDE + j] * inv_h
-                    uz = -block[_RZ * STRIDE + j] * inv_h
-                    qxx, qyy, qzz, qxy, qxz, qyz = quadratic_monomials(ux, uy, uz)
-                    gba0, gba1, gba2 = _pair_weight_vector(rows[b], -ux, -uy, -uz, qxx, qyy, qzz, qxy, qxz, qyz,
-                                                           va * wab * inv_h)
-                    weights[s, 0] = block[_G_AB * STRIDE + j]
-                    weights[s, 1] = block[(_G_AB + 1) * STRIDE + j]
-                    weights[s, 2] = block[(_G_AB + 2) * STRIDE + j]
-                    weights[s, 3] = gba0
-                    weights[s, 4] = gba1
-                    weights[s, 5] = gba2
-                    if not (movable_a or movable[b]):
-                        continue
-                    kb = mass[b] * rho[b]
-                    fx = (block[_F_A * STRIDE + j] - kb * (sigma_over_rho2[b, XX] * gba0 + sigma_over_rho2[b, XY] * gba1
-                                                          + sigma_over_rho2[b, XZ] * gba2))
-                    fy = (block[(_F_A + 1) * STRIDE + j] - kb * (sigma_over_rho2[b, XY] * gba0
-                                                                + sigma_over_rho2[b, YY] * gba1
-                                                                + sigma_over_rho2[b, YZ] * gba2))
-                    fz = (block[(_F_A + 2) * STRIDE + j] - kb * (sigma_over_rho2[b, XZ] * gba0
-                                                                + sigma_over_rho2[b, YZ] * gba1
-                                                                + sigma_over_rho2[b, ZZ] * gba2))
-                    fx += block[_F_AV * STRIDE + j]
-                    fy += block[(_F_AV + 1) * STRIDE + j]
-                    fz += block[(_F_AV + 2) * STRIDE + j]
-                    if gradient_integration:
-                        s_ba = va * wab * inv_h * inv_h
-                        fx += block[_F_GRAD_A * STRIDE + j] - s_ba * basis_dot(force_rows[b, 0], -ux, -uy, -uz)
-                        fy += block[(_F_GRAD_A + 1) * STRIDE + j] - s_ba * basis_dot(force_rows[b, 1], -ux, -uy, -uz)
-                        fz += block[(_F_GRAD_A + 2) * STRIDE + j] - s_ba * basis_dot(force_rows[b, 2], -ux, -uy, -uz)
-                    # forces here, accelerations once per particle below (one division instead of six per pair)
-                    fax += fx
-                    fay += fy
-                    faz += fz
-                    out[b, 0] -= fx
-                    out[b, 1] -= fy
-                    out[b, 2] -= fz
+                _gather_mls_block(block, a, lo, m, state, neighbours, half_period, work, h, art_exponent)
+                _mls_pair_block(block, padded(m), rows[a], sigma_over_rho2[a], art_stress[a],
+                                force_rows[a] if gradient_integration else rows[a], mass[a], rho[a],
+                                mass[a] * rho[a], terms, art_exponent, variant)
+                fax, fay, faz = _scatter_mls_block(block, a, lo, m, state, index, work, va, inv_h, support2,
+                                                   gradient_integration, out, fax, fay, faz)
             out[a, 0] += fax
             out[a, 1] += fay
             out[a, 2] += faz

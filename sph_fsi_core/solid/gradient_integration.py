@@ -100,14 +100,28 @@ def _scatter_moments(out, b, col, k, p0, p1, p2, p3, p4, p5, p6, p7, p8):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def velocity_hessian(pos, period, crossing, volume, vel, start, index, h, rows, w, hessian, moments):
-    """hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)]; `w` holds W_ab at `pos`.
+def velocity_hessian(state, neighbours, prm, work):
+    """work.hessian (N, 3, 6): d_j d_k v_i of the quadratic fit, entry [i, q(j, k)]; work.w holds W_ab at state.pos.
 
     H_a[i, q] = R_a^(3+q) . sum_b (v_b - v_a)_i s_ab p(u_ab), s_ab = V_b W_ab / h^2: the pairs only sum the 27
-    moments (per-chunk `moments`, chunks x N x 27), the rows are applied once per particle. volume: V = m / rho
-    per particle (solid.stepper.particle_volumes). crossing: the rows that may need the minimum image
-    (neighbours.NeighbourList.crossing; the others take plain differences, the same bits).
+    moments (per-chunk work.hessian_moments, chunks x N x 27), the rows (work.mls_rows) are applied once per
+    particle. work.volume: V = m / rho per particle (solid.stepper.particle_volumes). neighbours.crossing: the rows
+    that may need the minimum image (numerics.neighbours.NeighbourList.crossing; the others take plain differences,
+    the same bits). `state`: solid.stepper.SolidArrays, `neighbours`: SolidNeighbours, `prm`: SolidParams, `work`:
+    SolidBuffers.
     """
+    pos = state.pos
+    vel = state.vel
+    volume = work.volume
+    rows = work.mls_rows
+    w = work.w
+    hessian = work.hessian
+    moments = work.hessian_moments
+    start = neighbours.start
+    index = neighbours.index
+    crossing = neighbours.crossing
+    period = neighbours.period
+    h = prm.h
     half_period = 0.5 * period
     n = pos.shape[0]
     inv_h = 1.0 / h

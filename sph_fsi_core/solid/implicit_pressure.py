@@ -34,7 +34,8 @@ from numba import njit, prange
 
 from ..numerics.neighbours import chunk_first_target, unsigned
 
-# rows of the (6, N) scalar scratch and the (2, N, 3) vector scratch of the solve (SolidWork.pressure_scalars / _vectors)
+# rows of the (6, N) scalar scratch and the (2, N, 3) vector scratch of the solve (SolidWork.pressure_scalars /
+# pressure_vectors)
 _X, _R, _Z, _D, _Q, _DIAG = range(6)
 _U_X, _U_D = range(2)
 # the row of SolidWork.pressure_vectors that holds, after a step, the velocity change its pressure gave (dt P M^-1
@@ -185,12 +186,20 @@ def _velocity_change(force, mass, movable, clamp_mirror, dt, u):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _apply(x, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
-           u, theta, y):
-    """y = A x and u = dt P M^-1 P^T D^T V x (the velocity change the pressures x give)."""
-    pressure_forces(x, volume, start, index, weights, buf, force)
+def _apply(x, state, neighbours, work, c0_squared, clamp_mirror, dt, u, theta, y):
+    """y = A x and u = dt P M^-1 P^T D^T V x (the velocity change the pressures x give); arguments as in
+    implicit_pressure_step."""
+    rho = state.rho
+    mass = state.mass
+    movable = state.movable
+    volume = work.volume
+    start = neighbours.start
+    index = neighbours.index
+    weights = work.mls_weights
+    force = work.pressure_force
+    pressure_forces(x, volume, start, index, weights, work.vector_buf, force)
     _velocity_change(force, mass, movable, clamp_mirror, dt, u)
-    fitted_divergence(u, start, index, weights, scalar_buf, theta)
+    fitted_divergence(u, start, index, weights, work.scalar_buf, theta)
     for a in range(x.shape[0]):
         y[a] = (volume[a] * (x[a] * _compliance(a, rho, c0_squared) + dt * theta[a])
                 if _unknown(a, movable, clamp_mirror.shape[0] > 0) else 0.0)
@@ -205,9 +214,8 @@ def _dot(a, b):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_mirror, c0_squared, start, index,
-                           weights, tolerance, max_iterations, scalars, vectors, force, buf, scalar_buf, stats):
-    """One step's pressure (module docstring): vel (the half-kicked velocity) takes the new pressure's impulse.
+def implicit_pressure_step(dt, state, neighbours, prm, work, clamp_mirror):
+    """One step's pressure (module docstring): state.vel (the half-kicked velocity) takes the new pressure's impulse.
     rho and pressure are left to the continuity equation, which the stepper then advances with the velocity gradient
     of the new velocity (tr L_a is theta_a, with the same weights): solved exactly, the two agree; stopped at the
     tolerance, the density still follows the motion itself, so the solve's error cannot build up as a drift of the
@@ -215,18 +223,36 @@ def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_
     particles whose density advances (movable ones, and with the fixed clamp its held particles; not a mirrored
     clamp's ghosts, which carry no stress).
 
-    Conjugate gradients with the diagonal preconditioner, stopped when |r| <= tolerance |b| (2-norms) or after
-    max_iterations; `stats` (4,) accumulates steps, iterations, the most in one step and the capped steps.
-    `volume` (N,): m / rho at the step's start (solid.stepper.particle_volumes). `scalars` (6, N), `vectors`
-    (2, N, 3), `force` (N, 3) scratch; scalars[_X] keeps the solution's change, the next step's warm start (the
-    old pressure plus it). `buf` (chunks, N, 3) and `scalar_buf` (chunks, N): the pair passes' per-chunk sums.
+    Conjugate gradients with the diagonal preconditioner, stopped when |r| <= prm.pressure_tolerance |b| (2-norms) or
+    after prm.pressure_max_iterations; work.pressure_stats (4,) accumulates steps, iterations, the most in one step
+    and the capped steps. work.volume (N,): m / rho at the step's start (solid.stepper.particle_volumes).
+    work.pressure_scalars (6, N), work.pressure_vectors (2, N, 3), work.pressure_force (N, 3) scratch; scalars[_X]
+    keeps the solution's change, the next step's warm start (the old pressure plus it). work.vector_buf (chunks, N,
+    3) and work.scalar_buf (chunks, N): the pair passes' per-chunk sums; work.mls_weights the pair weights.
+    `state`: solid.stepper.SolidArrays, `neighbours`: SolidNeighbours, `prm`: SolidParams, `work`: SolidBuffers;
+    clamp_mirror: the ghost clamp's images (empty without).
     """
+    vel = state.vel
+    rho = state.rho
+    pressure = state.pressure
+    mass = state.mass
+    movable = state.movable
+    volume = work.volume
+    weights = work.mls_weights
+    scalars = work.pressure_scalars
+    vectors = work.pressure_vectors
+    start = neighbours.start
+    index = neighbours.index
+    stats = work.pressure_stats
+    c0_squared = prm.c0 * prm.c0
+    tolerance = prm.pressure_tolerance
+    max_iterations = prm.pressure_max_iterations
     n = vel.shape[0]
     ghost_clamp = clamp_mirror.shape[0] > 0
     x, r, z, d, q, diag = scalars[_X], scalars[_R], scalars[_Z], scalars[_D], scalars[_Q], scalars[_DIAG]
     ux, ud = vectors[_U_X], vectors[_U_D]
     # b = V p / K - dt V theta(P v); v already holds the ghosts' images
-    fitted_divergence(vel, start, index, weights, scalar_buf, q)
+    fitted_divergence(vel, start, index, weights, work.scalar_buf, q)
     for a in range(n):
         r[a] = (volume[a] * (pressure[a] * _compliance(a, rho, c0_squared) - dt * q[a])
                 if _unknown(a, movable, ghost_clamp) else 0.0)
@@ -234,9 +260,9 @@ def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_
     # from the old pressure plus its last step's change (x holds it; checkpoints keep it with the rest of the work)
     for a in range(n):
         x[a] = pressure[a] + x[a] if _unknown(a, movable, ghost_clamp) else 0.0
-    _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, buf, scalar_buf, diag)
-    _apply(x, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf, force,
-           ux, q, z)
+    _diagonal(mass, volume, rho, c0_squared, movable, ghost_clamp, start, index, weights, dt, work.vector_buf,
+              work.scalar_buf, diag)
+    _apply(x, state, neighbours, work, c0_squared, clamp_mirror, dt, ux, q, z)
     for a in range(n):
         r[a] -= z[a]
         z[a] = r[a] / diag[a]
@@ -245,8 +271,7 @@ def implicit_pressure_step(dt, vel, rho, volume, pressure, mass, movable, clamp_
     iterations = 0
     while math.sqrt(_dot(r, r)) > tolerance * b_norm and iterations < max_iterations:
         # z is free until the preconditioner refills it: theta's scratch here
-        _apply(d, volume, rho, c0_squared, mass, movable, clamp_mirror, start, index, weights, dt, buf, scalar_buf,
-               force, ud, z, q)
+        _apply(d, state, neighbours, work, c0_squared, clamp_mirror, dt, ud, z, q)
         dq = _dot(d, q)
         if dq <= 0.0:
             break

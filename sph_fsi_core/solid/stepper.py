@@ -48,8 +48,8 @@ from .fitted_gradient import (N_BASIS, momentum_rate_mls, pair_variant, velocity
                               xsph_velocity_and_mls_gradient)
 
 # solid.fit_refresh_turn = 0 with solid.nodal_integration = gradient: the fitted curvature needs fresh rows
-# (docs/method.md, "Strain-gradient nodal integration": with rows kept from one list build to the next, 46 % of the paper's beam's energy
-# ended up locked in self-balanced stress within 7 periods)
+# (docs/method.md, "Strain-gradient nodal integration": with rows kept from one list build to the next, 46 % of the
+# paper's beam's energy ended up locked in self-balanced stress within 7 periods)
 GRADIENT_FIT_REFRESH_TURN = 1e-4
 
 # solid.velocity_gradient -> SolidParams.gradient_order
@@ -93,8 +93,8 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
                        inv_w_dp=1.0 / cubic_spline_w(spacing, h), gx=gravity[0], gy=gravity[1], gz=gravity[2],
                        half_skin=0.5 * skin, gradient_order=GRADIENT_ORDERS[velocity_gradient],
                        cell_moment=spacing ** 2 / 12.0 if nodal_integration == "gradient" else 0.0,
-                       gradient_bulk_modulus=c0 * c0 * density if volumetric_gradient and nodal_integration == "gradient"
-                       else 0.0,
+                       gradient_bulk_modulus=(c0 * c0 * density if volumetric_gradient
+                                              and nodal_integration == "gradient" else 0.0),
                        fit_refresh_turn=0.0 if velocity_gradient != "quadratic" else
                        fit_refresh_turn or (GRADIENT_FIT_REFRESH_TURN if nodal_integration == "gradient" else 0.0),
                        implicit_pressure=pressure == "implicit", rotate_fit=fit_refresh == "rotate",
@@ -103,6 +103,11 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
                        pressure_max_iterations=int(pressure_max_iterations),
                        pair_variant=pair_variant(nodal_integration == "gradient",
                                                  int(art_exponent) if art_eps > 0.0 else 0))
+
+
+# The passes take these bundles and read their arrays one per line (`pos = state.pos`), never as a tuple
+# (`pos, vel = state.pos, state.vel`): Numba's alias analysis does not follow a tuple built and unpacked, so a
+# parallel loop writing an array unpacked that way counts as dead and is dropped (continuity_rate lost its drho so).
 
 
 class SolidArrays(NamedTuple):
@@ -300,41 +305,28 @@ def fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
     (N, 3) m/s^2 added to movable particles (the fluid's push), or (0, 3) for none; `clamp_mirror` (N,) int64,
     the ghost clamp's mirror images (solid.clamp = mirrored), or empty.
     """
-    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
-    pressure, acc, stress_gradient = state.pressure, state.acc, state.stress_gradient
-    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
-    sigma_over_rho2, art_stress, eig_work = work.sigma_over_rho2, work.art_stress, work.eig_work
-    w, f, vector_buf, blocks = work.w, work.f, work.vector_buf, work.blocks
-    mls_rows, mls_weights, force_rows = work.mls_rows, work.mls_weights, work.force_rows
-    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
-                 eig_work)
+    rho, stress, mass, movable = state.rho, state.stress, state.mass, state.movable
+    sigma_over_rho2 = work.sigma_over_rho2
+    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, state.pressure, sigma_over_rho2,
+                 work.art_stress, work.eig_work)
     if prm.implicit_pressure:   # the pressure's force comes from the step's implicit solve
         deviatoric_over_rho2(stress, rho, sigma_over_rho2)
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.cell_moment > 0.0:
-        gradient_force_rows(mass, rho, stress_gradient, prm.cell_moment, mls_rows, force_rows)
-    momentum_rate_mls(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index,
-                      prm.h, prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, mls_rows, acc, w, f,
-                      mls_weights, vector_buf, force_rows, blocks, prm.pair_variant)
-    _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror)
+        gradient_force_rows(mass, rho, state.stress_gradient, prm.cell_moment, work.mls_rows, work.force_rows)
+    momentum_rate_mls(state, neighbours, prm, work, body)
+    _finish_acceleration(state.acc, mass, movable, body, ext_acc, clamp_mirror)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
 def sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
     """Eq. (5) as fitted_acceleration, with Gray's SPH gradient (solid.velocity_gradient = sph, the paper's) or its
     kernel-corrected form (linear): solid/gray2001.py."""
-    pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
-    pressure, acc = state.pressure, state.acc
-    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
-    sigma_over_rho2, art_stress, eig_work = work.sigma_over_rho2, work.art_stress, work.eig_work
-    w, f, vector_buf, kinv, blocks = work.w, work.f, work.vector_buf, work.kinv, work.blocks
-    stress_terms(stress, rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, pressure, sigma_over_rho2, art_stress,
-                 eig_work)
+    stress_terms(state.stress, state.rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, state.pressure,
+                 work.sigma_over_rho2, work.art_stress, work.eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
-    momentum_rate(pos, period, crossing, mass, movable, rho, vel, sigma_over_rho2, art_stress, start, index, prm.h,
-                  prm.c0, prm.alpha, prm.beta, prm.art_exponent, prm.inv_w_dp, body, acc, w, f, vector_buf,
-                  prm.gradient_order == 1, kinv, blocks)
-    _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror)
+    momentum_rate(state, neighbours, prm, work, body)
+    _finish_acceleration(state.acc, state.mass, state.movable, body, ext_acc, clamp_mirror)
 
 
 def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
@@ -442,32 +434,24 @@ def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_
     made at, and a stale fit leaks the linear part of the motion into the fitted curvature.
     """
     pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
-    acc, stress_gradient = state.acc, state.stress_gradient
-    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
-    vhat, volume, grad_v, drho, dstress = work.vhat, work.volume, work.grad_v, work.drho, work.dstress
-    w, buf, scalar_buf = work.w, work.buf, work.scalar_buf
-    mls_rows, mls_weights = work.mls_rows, work.mls_weights
-    hessian, dstress_gradient, hessian_moments = work.hessian, work.dstress_gradient, work.hessian_moments
+    acc = state.acc
+    grad_v = work.grad_v
     for step in range(n_steps):
         if _skin_may_be_crossed(step, force_first, dt, pos, neighbours.targets_at_build, vel, acc, prm):
             return step
         _half_kick(dt, vel, acc, movable, clamp_mirror)
         if prm.cell_moment > 0.0 or prm.implicit_pressure:
-            particle_volumes(mass, rho, volume)     # rho is the step's start's until the update below
+            particle_volumes(mass, rho, work.volume)     # rho is the step's start's until the update below
         if prm.implicit_pressure:
-            implicit_pressure_step(dt, vel, rho, volume, state.pressure, mass, movable, clamp_mirror, prm.c0 * prm.c0,
-                                   start, index, mls_weights, prm.pressure_tolerance, prm.pressure_max_iterations,
-                                   work.pressure_scalars, work.pressure_vectors, work.pressure_force,
-                                   work.vector_buf, scalar_buf, work.pressure_stats)
-        xsph_velocity_and_mls_gradient(mass, rho, vel, start, index, w, mls_weights, prm.xsph_eps, vhat, grad_v, buf)
+            implicit_pressure_step(dt, state, neighbours, prm, work, clamp_mirror)
+        xsph_velocity_and_mls_gradient(state, neighbours, prm, work)
         # the fitted gradient's own divergence, so pressure and deviatoric stress see one strain rate
-        velocity_divergence_rate(rho, grad_v, drho)
-        jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
+        velocity_divergence_rate(rho, grad_v, work.drho)
+        jaumann_stress_rate(grad_v, stress, prm.shear_modulus, work.dstress)
         if prm.cell_moment > 0.0:
-            velocity_hessian(pos, period, crossing, volume, vel, start, index, prm.h, mls_rows, w, hessian,
-                             hessian_moments)
-            stress_gradient_rate(hessian, grad_v, stress, stress_gradient, prm.shear_modulus,
-                                 prm.gradient_bulk_modulus, dstress_gradient)
+            velocity_hessian(state, neighbours, prm, work)
+            stress_gradient_rate(work.hessian, grad_v, stress, state.stress_gradient, prm.shear_modulus,
+                                 prm.gradient_bulk_modulus, work.dstress_gradient)
         _advance_state(dt, state, work, prm, clamp_mirror)
         fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
         _half_kick(dt, vel, acc, movable, clamp_mirror)
@@ -483,22 +467,19 @@ def sph_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc
     kernel-corrected form (linear): solid/gray2001.py. Returns the number of steps done."""
     pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
     acc = state.acc
-    start, index, period, crossing = neighbours.start, neighbours.index, neighbours.period, neighbours.crossing
-    vhat, volume, grad_v, drho, dstress = work.vhat, work.volume, work.grad_v, work.drho, work.dstress
-    w, f, buf, scalar_buf, kinv = work.w, work.f, work.buf, work.scalar_buf, work.kinv
+    grad_v = work.grad_v
     for step in range(n_steps):
         if _skin_may_be_crossed(step, force_first, dt, pos, neighbours.targets_at_build, vel, acc, prm):
             return step
         _half_kick(dt, vel, acc, movable, clamp_mirror)
-        particle_volumes(mass, rho, volume)     # rho is the step's start's until the update below
-        xsph_velocity_and_gradient(pos, period, crossing, mass, rho, volume, vel, start, index, w, f, prm.xsph_eps,
-                                   vhat, grad_v, buf, prm.gradient_order == 1, kinv)
+        particle_volumes(mass, rho, work.volume)     # rho is the step's start's until the update below
+        xsph_velocity_and_gradient(state, neighbours, prm, work)
         if prm.gradient_order == 0:
-            continuity_rate(pos, period, crossing, rho, volume, vhat, start, index, f, drho, scalar_buf)
+            continuity_rate(state, neighbours, work)
         else:
             # the corrected gradient's own divergence, so pressure and deviatoric stress see one strain rate
-            velocity_divergence_rate(rho, grad_v, drho)
-        jaumann_stress_rate(grad_v, stress, prm.shear_modulus, dstress)
+            velocity_divergence_rate(rho, grad_v, work.drho)
+        jaumann_stress_rate(grad_v, stress, prm.shear_modulus, work.dstress)
         _advance_state(dt, state, work, prm, clamp_mirror)
         sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
         _half_kick(dt, vel, acc, movable, clamp_mirror)
