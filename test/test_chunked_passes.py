@@ -6,10 +6,10 @@ beyond round-off, so 1, 2 and 5 chunks must agree to round-off on a disordered c
 import numpy as np
 import pytest
 
+import fluid_bundles
 import solid_bundles
-from sph_fsi_core.fluid.okaji import FLUID_BLOCK_COLUMNS, viscous_velocity
+from sph_fsi_core.fluid.okaji import viscous_velocity
 from sph_fsi_core.numerics.neighbours import NeighbourList, pair_kernel_values
-from sph_fsi_core.numerics.pair_blocks import block_scratch
 from sph_fsi_core.solid.gray2001 import continuity_rate, momentum_rate, xsph_velocity_and_gradient
 
 DP, H = 1e-3, 1.3e-3
@@ -63,8 +63,8 @@ def test_fluid_viscous_pass_does_not_depend_on_the_chunks(chunks):
     out = {}
     for c in (1, chunks):
         out[c] = np.zeros_like(vel)
-        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, NO_PERIOD, None, np.ones(len(pos), dtype=np.bool_),
-                         H, 1e-4, 1e-4, out[c], np.zeros((c, len(pos), 3)), block_scratch(c, FLUID_BLOCK_COLUMNS))
+        viscous_velocity(pos, vel, mass, rho, fluid_bundles.neighbours(nl, crossing=np.ones(len(pos), dtype=np.bool_)),
+                         fluid_bundles.buffers(len(pos), nl.pairs, chunks=c, f_fluid=f), H, 1e-4, 1e-4, out[c])
     change = out[1] - vel
     assert np.abs(change).max() > 0.0
     assert np.abs(out[chunks] - out[1]).max() < 1e-12 * np.abs(change).max()

@@ -201,9 +201,8 @@ def test_viscous_term_decays_a_shear_wave_at_nu_k2():
     s.density()
     nu, dt = 1.0e-4, 1.0e-4
     out = np.zeros_like(fluid.vel)
-    nb = s.fluid_neighbours
-    viscous_velocity(fluid.pos, fluid.vel, fluid.mass, fluid.rho, nb.start, nb.index, s.f_fluid, period,
-                     xz_periodic_marker(period), s.crossing, H, nu, dt, out, s.buf, s.blocks)
+    assert s.neighbours().xz_periodic is xz_periodic_marker(period)
+    viscous_velocity(fluid.pos, fluid.vel, fluid.mass, fluid.rho, s.neighbours(), s.buffers(), H, nu, dt, out)
     change = out[:, 0] - fluid.vel[:, 0]
     expected = -nu * k * k * dt * fluid.vel[:, 0]
     big = np.abs(expected) > 0.5 * np.abs(expected).max()

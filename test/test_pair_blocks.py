@@ -9,14 +9,14 @@ one axis is periodic, so the minimum-image and several-block paths are exercised
 import numpy as np
 import pytest
 
+import fluid_bundles
 import solid_bundles
 
-from sph_fsi_core.fluid.okaji import (DENSITY_BLOCK_COLUMNS, VISCOUS_BLOCK_COLUMNS, summation_density,
-                                     viscous_velocity)
+from sph_fsi_core.fluid.okaji import summation_density, viscous_velocity
 from sph_fsi_core.numerics.kernels import cubic_spline_f, cubic_spline_w
 from sph_fsi_core.numerics.neighbours import NeighbourList
 from sph_fsi_core.numerics.periodic import xz_periodic_marker
-from sph_fsi_core.numerics.pair_blocks import BLOCK, block_scratch
+from sph_fsi_core.numerics.pair_blocks import BLOCK
 from sph_fsi_core.solid.gradient_integration import gradient_force_rows
 from sph_fsi_core.schema import MAX_ART_EXPONENT
 from sph_fsi_core.solid.gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
@@ -82,12 +82,12 @@ def test_summation_density_equals_the_sum_over_every_particle(images):
     assert xz_periodic_marker(PERIOD) is None
 
     def density(xz_periodic, crossing):
-        rho, p, q = np.zeros(n), np.zeros(n), np.zeros(n)
-        f_fluid, f_wall = np.zeros(fluid.pairs), np.zeros(wall_list.pairs)
-        summation_density(pos, mass, fluid.start, fluid.index, walls, wall_mass, wall_list.start, wall_list.index,
-                          PERIOD, xz_periodic, crossing, H, 1000.0, 1.0, rho, p, q, f_fluid, f_wall,
-                          np.zeros((CHUNKS, n)), block_scratch(CHUNKS, DENSITY_BLOCK_COLUMNS))
-        return rho, f_fluid, f_wall
+        arrays = fluid_bundles.arrays(pos, mass)
+        work = fluid_bundles.buffers(n, fluid.pairs, wall_list.pairs, CHUNKS)
+        summation_density(arrays, fluid_bundles.walls(walls, wall_mass),
+                          fluid_bundles.neighbours(fluid, wall_list, PERIOD, xz_periodic, crossing),
+                          fluid_bundles.params(H), work)
+        return arrays.rho, work.f_fluid, work.f_wall
 
     everywhere = np.ones(n, dtype=np.bool_)
     rho, f_fluid, f_wall = density(*{"rows": (None, flags), "y": (None, everywhere), "all": (True, flags)}[images])
@@ -129,8 +129,8 @@ def test_viscous_pass_equals_the_sum_over_every_particle(images):
 
     def viscous(xz_periodic, crossing):
         out = np.zeros_like(vel)
-        viscous_velocity(pos, vel, mass, rho, nl.start, nl.index, f, PERIOD, xz_periodic, crossing, H, nu, dt, out,
-                         np.zeros((CHUNKS, n, 3)), block_scratch(CHUNKS, VISCOUS_BLOCK_COLUMNS))
+        viscous_velocity(pos, vel, mass, rho, fluid_bundles.neighbours(nl, None, PERIOD, xz_periodic, crossing),
+                         fluid_bundles.buffers(n, nl.pairs, chunks=CHUNKS, f_fluid=f), H, nu, dt, out)
         return out
 
     out = viscous(*{"rows": (None, nl.crossing), "y": (None, everywhere), "all": (True, nl.crossing)}[images])

@@ -59,11 +59,15 @@ def surface_normals(gradient, surface, normal):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid_pos, fluid_mass, fluid_rho, correction,
-              inv_dt2, period, h, gamma, acc):
+def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid, inv_dt2, period, h, gamma, acc):
     """Eqs. (10)-(11): acc_a = gamma sum_b (m_b / rho_b) (adot_b . n_a) W_ab (-n_a), adot_b = correction_b / dt^2,
     over the fluid neighbours b of solid surface particle a (solid->fluid list). Zero on interior and clamp
-    particles."""
+    particles. `fluid`: fluid.stepper.FluidArrays (positions, masses, densities and the step's correction
+    displacements)."""
+    fluid_pos = fluid.pos
+    fluid_mass = fluid.mass
+    fluid_rho = fluid.rho
+    correction = fluid.correction_displacement
     inv_h = 1.0 / h
     sigma = kernel_normalisation(h)
     support2 = support_squared(h)

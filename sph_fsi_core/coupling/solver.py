@@ -47,6 +47,7 @@ import numpy as np
 
 from .forces import (pressure_pair_forces, seed_push, shepard_pressure, solid_wall_mass, surface_gradient,
                      surface_normals)
+from ..fluid.stepper import FluidArrays
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
 from ..numerics.neighbours import NeighbourList
 from ..state import WallState
@@ -131,8 +132,8 @@ class Coupling:
             nb = self.fluid_neighbours
             nb.update(pos, f.pos)
             self.refresh_normals()
-            seed_push(pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, f.pos, f.mass, f.rho,
-                      f.correction_displacement, 1.0 / (dt * dt), self.period, self.h, self.gamma, self.acc)
+            seed_push(pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, FluidArrays.of(f),
+                      1.0 / (dt * dt), self.period, self.h, self.gamma, self.acc)
         else:
             self.pressure_forces()
             self.acc[:] = self.force / s.mass[:, None]

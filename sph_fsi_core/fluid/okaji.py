@@ -94,19 +94,42 @@ def _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, w
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, crossing, h,
-                      rho0, c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks):
+def summation_density(fluid, walls, neighbours, prm, work):
     """Eq. (1): rho_a = sum_b m_b W_ab over fluid and wall neighbours at the current positions (own pair included,
-    W(0) = 1 / (pi h^3)); then, per particle, eq. (7) with p0 = 0 and no tension, p_a = c^2 max(rho_a - rho0, 0),
-    and p_a / rho_a^2 for eq. (2).
+    W(0) = 1 / (pi h^3)), into fluid.rho; then, per particle, eq. (7) with p0 = 0 and no tension,
+    p_a = c^2 max(rho_a - rho0, 0) (work.p), and p_a / rho_a^2 for eq. (2) (work.p_over_rho2).
 
-    Also caches F_ab = (dW/dr)/r per pair (`f_fluid`, `f_wall`, aligned with the lists' `index`), for the
+    Also caches F_ab = (dW/dr)/r per pair (work.f_fluid, work.f_wall, aligned with the lists' `index`), for the
     pressure-gradient and viscous passes at the same positions. (Eq. (7) rides along because it needs only the
     particle's own density: one parallel region less per iteration.) The kernel is evaluated in blocks of pairs
-    (pair_blocks.py; `blocks`: per-chunk scratch of DENSITY_BLOCK_COLUMNS columns); `density_buf` (chunks, N) holds
-    the per-chunk sums (a column of the passes' (chunks, N, 3) buffer measured 1.08x slower: a third of each cache
-    line used).
+    (pair_blocks.py; work.blocks: per-chunk scratch of DENSITY_BLOCK_COLUMNS columns); work.density_buf (chunks, N)
+    holds the per-chunk sums (a column of the passes' (chunks, N, 3) buffer measured 1.08x slower: a third of each
+    cache line used). `fluid`: fluid.stepper.FluidArrays, `walls`: FluidWalls, `neighbours`: FluidNeighbours,
+    `prm`: CorrectionParams (h, rho0, c2), `work`: FluidBuffers. The arrays are taken out of the bundles here, once,
+    and the per-target functions take them as arrays: taking the bundles (and tuples of arrays) they cost the tank
+    and the dam break 0.91-0.92x per step.
     """
+    pos = fluid.pos
+    mass = fluid.mass
+    rho = fluid.rho
+    wall_pos = walls.pos
+    wall_mass = walls.mass
+    fstart = neighbours.fluid_start
+    findex = neighbours.fluid_index
+    wstart = neighbours.wall_start
+    windex = neighbours.wall_index
+    period = neighbours.period
+    xz_periodic = neighbours.xz_periodic
+    crossing = neighbours.crossing
+    h = prm.h
+    rho0 = prm.rho0
+    c2 = prm.c2
+    p = work.p
+    p_over_rho2 = work.p_over_rho2
+    f_fluid = work.f_fluid
+    f_wall = work.f_wall
+    density_buf = work.density_buf
+    blocks = work.blocks
     n = pos.shape[0]
     chunks = density_buf.shape[0]
     inv_h = 1.0 / h
@@ -175,12 +198,20 @@ def shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, 
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, crossing, h, rho0,
-                  wall_p_over_rho2):
+def wall_pressure(walls, pos, p, neighbours, h, rho0):
     """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
-    (0 without any), stored as p_w / rho0^2, for the `active` wall particles (those within reach of the water;
-    row i of the wall->fluid list belongs to wall particle active[i]). The others have no fluid neighbour and
-    keep p_w = 0, at no cost."""
+    (0 without any), stored as p_w / rho0^2 in walls.p_over_rho2, for the wall particles within reach of the water
+    (neighbours.active_walls; row i of the wall->fluid list belongs to wall particle active_walls[i]). The others
+    have no fluid neighbour and keep p_w = 0, at no cost. `walls`: fluid.stepper.FluidWalls; `pos`, `p`: the
+    fluid's positions and pressures; `neighbours`: FluidNeighbours."""
+    wall_pos = walls.pos
+    wall_p_over_rho2 = walls.p_over_rho2
+    active = neighbours.active_walls
+    wfstart = neighbours.wall_fluid_start
+    wfindex = neighbours.wall_fluid_index
+    period = neighbours.period
+    xz_periodic = neighbours.xz_periodic
+    crossing = neighbours.wall_crossing
     inv_h = 1.0 / h
     sigma = kernel_normalisation(h)
     half_period = 0.5 * period
@@ -228,18 +259,37 @@ def _pressure_target(a, pos, mass, p_over_rho2, fstart, findex, f_fluid, wall_po
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass, wall_p_over_rho2,
-                          wstart, windex, f_wall, period, xz_periodic, crossing, dt2, disp, accumulated, buf):
+def pressure_displacement(fluid, walls, neighbours, prm, work):
     """Position correction of one iteration: disp_a = dt^2 dv_a/dt with dv_a/dt from eq. (2),
 
         dv_a/dt = - sum_b m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab,    grad_a W_ab = F_ab (r_a - r_b),
 
     wall neighbours with their extrapolated pressure (module docstring). F_ab from the density pass at the same
     positions; a fluid pair's term is evaluated once and given to both particles (grad_b W_ba = -grad_a W_ab), so
-    fluid pairs change no momentum. Writes `disp` only (Jacobi: every particle sees its neighbours where they
-    were), and adds this iteration's p_a to the step's pressure sum `accumulated` (the pressure output, module
-    docstring).
+    fluid pairs change no momentum. Writes work.disp only (Jacobi: every particle sees its neighbours where they
+    were), and adds this iteration's p_a (work.p) to the step's pressure sum fluid.pressure (the pressure output,
+    module docstring); dt^2 is prm.dt2, work.buf the per-chunk sums. Arguments as in summation_density.
     """
+    pos = fluid.pos
+    mass = fluid.mass
+    accumulated = fluid.pressure
+    wall_pos = walls.pos
+    wall_mass = walls.mass
+    wall_p_over_rho2 = walls.p_over_rho2
+    fstart = neighbours.fluid_start
+    findex = neighbours.fluid_index
+    wstart = neighbours.wall_start
+    windex = neighbours.wall_index
+    period = neighbours.period
+    xz_periodic = neighbours.xz_periodic
+    crossing = neighbours.crossing
+    dt2 = prm.dt2
+    p = work.p
+    p_over_rho2 = work.p_over_rho2
+    f_fluid = work.f_fluid
+    f_wall = work.f_wall
+    disp = work.disp
+    buf = work.buf
     n = pos.shape[0]
     chunks = buf.shape[0]
     half_period = 0.5 * period
@@ -361,8 +411,7 @@ def _viscous_target(a, pos, vel, mass, rho, fstart, findex, f_fluid, period, hal
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_periodic, crossing, h, nu, dt, vel_out,
-                     buf, blocks):
+def viscous_velocity(pos, vel, mass, rho, neighbours, work, h, nu, dt, vel_out):
     """Eq. (9) in the laminar form of Morris, Fox & Zhu 1997 (the paper's typesetting of (9) is damaged):
 
         v_a = v*_a + dt sum_b m_b (mu_a + mu_b) / (rho_a rho_b) (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab,
@@ -370,9 +419,18 @@ def viscous_velocity(pos, vel, mass, rho, fstart, findex, f_fluid, period, xz_pe
     mu = rho nu, v_ab = v*_a - v*_b; r_ab . grad_a W_ab = F_ab r_ab^2 < 0, so the sum diffuses momentum and
     conserves it pair by pair (each pair evaluated once, given to both). Fluid neighbours only: the walls are
     free-slip, because the real boundary layer, sqrt(nu t) ~ 0.4 mm at t = 0.2 s, is thinner than any particle
-    spacing used here and a no-slip wall would spread it over 2h. Writes `vel_out` (Jacobi). `blocks`: per-chunk
-    pair-block scratch of VISCOUS_BLOCK_COLUMNS columns at least (pair_blocks.block_scratch).
+    spacing used here and a no-slip wall would spread it over 2h. Writes `vel_out` (Jacobi). `neighbours`:
+    fluid.stepper.FluidNeighbours (the half list); `work`: FluidBuffers (F_ab in f_fluid from the density pass,
+    buf the per-chunk sums, blocks per-chunk pair-block scratch of VISCOUS_BLOCK_COLUMNS columns at least).
     """
+    fstart = neighbours.fluid_start
+    findex = neighbours.fluid_index
+    period = neighbours.period
+    xz_periodic = neighbours.xz_periodic
+    crossing = neighbours.crossing
+    f_fluid = work.f_fluid
+    buf = work.buf
+    blocks = work.blocks
     n = pos.shape[0]
     chunks = buf.shape[0]
     eta2 = 0.01 * h * h

@@ -165,13 +165,20 @@ class FluidSolver:
         return FluidBuffers(self.p, self.p_over_rho2, self.f_fluid, self.f_wall, self.disp, self.moved2, self.buf,
                             self.density_buf, self.blocks)
 
+    def wall_arrays(self, p_over_rho2=None):
+        """The wall rows as the passes take them, with the solver's wall pressures or `p_over_rho2`."""
+        return FluidWalls(self.wall_pos, self.wall_mass, self.wall_p_over_rho2 if p_over_rho2 is None else p_over_rho2)
+
+    def correction_params(self, c, dt):
+        """The correction's numbers for a step of `dt` at eq. (7)'s `c` (correction_c)."""
+        return CorrectionParams(self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations,
+                                self.max_iterations, 0.5 * self.skin)
+
     def density(self):
         """Eq. (1) at the current positions (lists must be valid); returns (max, mean) compression."""
-        fl, nb = self.fluid, self.fluid_neighbours
-        wstart, windex, _, _ = self._wall_rows()
-        summation_density(fl.pos, fl.mass, nb.start, nb.index, self.wall_pos, self.wall_mass, wstart, windex,
-                          self.period, self.xz_periodic, self.crossing, self.h, self.rho0, 0.0, fl.rho, self.p,
-                          self.p_over_rho2, self.f_fluid, self.f_wall, self.density_buf, self.blocks)
+        fl = self.fluid
+        summation_density(FluidArrays.of(fl), self.wall_arrays(), self.neighbours(), self.correction_params(0.0, 0.0),
+                          self.buffers())
         return compression_error(fl.rho, self.rho0)
 
     # ---- time step ---------------------------------------------------------------------------------------
@@ -198,14 +205,12 @@ class FluidSolver:
         """(count, 3) N: the water's push on groups of wall particles (group: (walls,) int64, each wall particle's
         group, -1 for none) from the last step's pressures at the current positions (fluid/wall_forces.py)."""
         fl = self.fluid
-        wall_q = np.zeros(len(self.wall_mass))
-        wstart, windex, wfstart, wfindex = self._wall_rows()
+        walls = self.wall_arrays(np.zeros(len(self.wall_mass)))
+        neighbours = self.neighbours()
         if len(self.active_walls):
-            wall_pressure(self.wall_pos, self.active_walls, fl.pos, fl.pressure, wfstart, wfindex, self.period,
-                          self.xz_periodic, self.wall_crossing, self.h, self.rho0, wall_q)
-        return wall_group_forces(fl.pos, fl.mass, fl.rho, fl.pressure, self.wall_pos, self.wall_mass, wall_q,
-                                 np.ascontiguousarray(group, dtype=np.int64), wstart, windex, self.period, self.h,
-                                 int(count), np.zeros((self.buf.shape[0], int(count), 3)))
+            wall_pressure(walls, fl.pos, fl.pressure, neighbours, self.h, self.rho0)
+        return wall_group_forces(FluidArrays.of(fl), walls, np.ascontiguousarray(group, dtype=np.int64), neighbours,
+                                 self.h, int(count), np.zeros((self.buf.shape[0], int(count), 3)))
 
     def correction_c(self, dt):
         """c of eq. (7): fluid.correction_coefficient, or kappa h / dt when that is 0 (module docstring)."""
@@ -219,9 +224,8 @@ class FluidSolver:
         fl.pressure[:] = 0.0
         c = self.correction_c(dt)
         arrays = FluidArrays.of(fl)
-        walls = FluidWalls(self.wall_pos, self.wall_mass, self.wall_p_over_rho2)
-        prm = CorrectionParams(self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations,
-                               self.max_iterations, 0.5 * self.skin)
+        walls = self.wall_arrays()
+        prm = self.correction_params(c, dt)
         it, rebuilds = 0, 0
         while True:
             if self.fluid_neighbours.is_stale(fl.pos, fl.pos):
@@ -236,10 +240,9 @@ class FluidSolver:
             self.rebuild()
             rebuilds += 1
         velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
-        nb = self.fluid_neighbours
         if self.nu > 0.0:
-            viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, nb.start, nb.index, self.f_fluid, self.period,
-                             self.xz_periodic, self.crossing, self.h, self.nu, dt, self.vel_work, self.buf, self.blocks)
+            viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, self.neighbours(), self.buffers(), self.h, self.nu, dt,
+                             self.vel_work)
             fl.vel[:] = self.vel_work
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)

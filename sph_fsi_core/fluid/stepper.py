@@ -86,34 +86,22 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work):
     when a particle has moved more than half the skin since the lists were built (the caller rebuilds and calls
     again). Four parallel passes per iteration: density with (7), wall pressure, position correction, apply.
     """
-    pos, mass, rho = fluid.pos, fluid.mass, fluid.rho
-    accumulated, total = fluid.pressure, fluid.correction_displacement
-    wall_pos, wall_mass, wall_p_over_rho2 = walls.pos, walls.mass, walls.p_over_rho2
-    fstart, findex = neighbours.fluid_start, neighbours.fluid_index
-    wstart, windex = neighbours.wall_start, neighbours.wall_index
-    active, wfstart, wfindex = neighbours.active_walls, neighbours.wall_fluid_start, neighbours.wall_fluid_index
-    crossing, wall_crossing, pos_at_build = neighbours.crossing, neighbours.wall_crossing, neighbours.targets_at_build
-    period, xz_periodic = neighbours.period, neighbours.xz_periodic
-    h, rho0, c2, dt2 = prm.h, prm.rho0, prm.c2, prm.dt2
-    p, p_over_rho2, f_fluid, f_wall = work.p, work.p_over_rho2, work.f_fluid, work.f_wall
-    disp, moved2, buf, density_buf, blocks = work.disp, work.moved2, work.buf, work.density_buf, work.blocks
+    pos = fluid.pos
+    rho = fluid.rho
+    moved2 = work.moved2
     it = it_start
     while True:
-        summation_density(pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, xz_periodic, crossing,
-                          h, rho0, c2, rho, p, p_over_rho2, f_fluid, f_wall, density_buf, blocks)
-        emax, emean = compression_error(rho, rho0)
+        summation_density(fluid, walls, neighbours, prm, work)
+        emax, emean = compression_error(rho, prm.rho0)
         err = emean if prm.on_mean else emax
         if it >= prm.min_iterations and err <= prm.tolerance:
             return it, emax, emean, CONVERGED
         if it >= prm.max_iterations:
             return it, emax, emean, CAPPED
-        if wall_pos.shape[0] > 0:
-            wall_pressure(wall_pos, active, pos, p, wfstart, wfindex, period, xz_periodic, wall_crossing, h, rho0,
-                          wall_p_over_rho2)
-        pressure_displacement(pos, mass, p, p_over_rho2, fstart, findex, f_fluid, wall_pos, wall_mass,
-                              wall_p_over_rho2, wstart, windex, f_wall, period, xz_periodic, crossing, dt2, disp,
-                              accumulated, buf)
-        apply_displacement(pos, disp, total, pos_at_build, moved2)
+        if walls.pos.shape[0] > 0:
+            wall_pressure(walls, pos, work.p, neighbours, prm.h, prm.rho0)
+        pressure_displacement(fluid, walls, neighbours, prm, work)
+        apply_displacement(pos, work.disp, fluid.correction_displacement, neighbours.targets_at_build, moved2)
         it += 1
         if _largest(moved2) > prm.half_skin * prm.half_skin:
             return it, -1.0, -1.0, NEEDS_REBUILD

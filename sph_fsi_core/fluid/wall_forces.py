@@ -18,11 +18,22 @@ from ..numerics.periodic import minimum_image
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def wall_group_forces(pos, mass, rho, pressure, wall_pos, wall_mass, wall_q, group, wstart, windex, period, h, groups,
-                      buf):
+def wall_group_forces(fluid, walls, group, neighbours, h, groups, buf):
     """(groups, 3) N: sum over fluid particles a and their wall neighbours w with group[w] = g >= 0 of
-    m_a m_w (P_a / rho_a^2 + wall_q[w]) F_aw (r_a - r_w), F = (dW/dr) / r, into row g (the water's push on group g;
-    wall_q = P_w / rho0^2). `buf`: (chunks, groups, 3) scratch."""
+    m_a m_w (P_a / rho_a^2 + q_w) F_aw (r_a - r_w), F = (dW/dr) / r, into row g (the water's push on group g;
+    q_w = P_w / rho0^2). `fluid`: fluid.stepper.FluidArrays (P_a its step's summed pressure); `walls`: FluidWalls
+    (q_w its p_over_rho2); `neighbours`: FluidNeighbours (its fluid->wall list); `buf`: (chunks, groups, 3)
+    scratch."""
+    pos = fluid.pos
+    mass = fluid.mass
+    rho = fluid.rho
+    pressure = fluid.pressure
+    wall_pos = walls.pos
+    wall_mass = walls.mass
+    wall_q = walls.p_over_rho2
+    wstart = neighbours.wall_start
+    windex = neighbours.wall_index
+    period = neighbours.period
     chunks = buf.shape[0]
     reach = SUPPORT_RADIUS_IN_H * h
     half_period = 0.5 * period

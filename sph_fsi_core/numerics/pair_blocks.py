@@ -59,9 +59,11 @@ MOTION_COLUMNS = 7
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def gather_motion(block, index, lo, m, xa, ya, za, vxa, vya, vza, pos, vel, rho, h):
-    """The motion columns of pairs lo..lo+m-1 of a's row (a at xa.. moving at vxa..), and their padding (a pair
-    FAR_IN_H h apart, at rest, of density 1) up to padded(m)."""
+def gather_motion(block, index, lo, m, a, pos, vel, rho, h):
+    """The motion columns of pairs lo..lo+m-1 of a's row, and their padding (a pair FAR_IN_H h apart, at rest, of
+    density 1) up to padded(m)."""
+    xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
+    vxa, vya, vza = vel[a, 0], vel[a, 1], vel[a, 2]
     pad_block(block, m, SEPARATION, FAR_IN_H * h, SEPARATION + 1, NEIGHBOUR_DENSITY, 0.0)
     pad_block(block, m, NEIGHBOUR_DENSITY, 1.0, 0, 0, 0.0)
     for j in range(m):

@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..numerics.kernels import cubic_spline_w, cubic_spline_wf, kernel_normalisation, support_squared
+from ..numerics.kernels import cubic_spline_w, cubic_spline_wf, support_squared
 from ..numerics.neighbours import chunk_first_target, unsigned
 from ..numerics.periodic import minimum_image
 from ..numerics.pair_blocks import (BLOCK, MOTION_COLUMNS, NEIGHBOUR_DENSITY, SEPARATION, STRIDE,
@@ -427,8 +427,7 @@ def _gather_mls_block(block, a, lo, m, state, neighbours, half_period, work, h, 
     mass = state.mass
     index = neighbours.index
     period = neighbours.period
-    gather_motion(block, index, lo, m, pos[a, 0], pos[a, 1], pos[a, 2], vel[a, 0], vel[a, 1], vel[a, 2], pos, vel,
-                  state.rho, h)
+    gather_motion(block, index, lo, m, a, pos, vel, state.rho, h)
     for j in range(m):
         block[_MASS_B * STRIDE + j] = mass[index[unsigned(lo + j)]]
     pad_block(block, m, _MASS_B, 0.0, 0, 0, 0.0)

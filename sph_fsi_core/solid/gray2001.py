@@ -14,7 +14,6 @@ that it removes energy.
 import math
 from typing import NamedTuple
 
-import numpy as np
 from numba import njit, prange
 
 from ..numerics.kernels import cubic_spline_wf, kernel_normalisation
@@ -569,8 +568,7 @@ def _gather_momentum_block(block, a, lo, m, state, neighbours, half_period, work
     vel = state.vel
     index = neighbours.index
     period = neighbours.period
-    gather_motion(block, index, lo, m, pos[a, 0], pos[a, 1], pos[a, 2], vel[a, 0], vel[a, 1], vel[a, 2], pos, vel,
-                  state.rho, h)
+    gather_motion(block, index, lo, m, a, pos, vel, state.rho, h)
     gather_tensors(block, _S_B, index, lo, m, work.sigma_over_rho2)
     if art_exponent > 0:
         gather_tensors(block, _R_B, index, lo, m, work.art_stress)
