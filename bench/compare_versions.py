@@ -82,8 +82,11 @@ def sample_columns(rows):
 
 
 def particle_steps(sim):
-    n = sim.solid.count * sim.solid_steps if sim.solid is not None else 0
-    return n + (sim.fluid.count * sim.fluid_steps if sim.fluid is not None else 0)
+    """Particle-steps so far, of either version's Simulation (the phases' counts; an older one's own)."""
+    def steps(phase, older):
+        return getattr(sim, older) if not hasattr(sim, "solid_phase") else getattr(sim, phase).steps
+    n = sim.solid.count * steps("solid_phase", "solid_steps") if sim.solid is not None else 0
+    return n + (sim.fluid.count * steps("fluid_phase", "fluid_steps") if sim.fluid is not None else 0)
 
 
 def main(argv=None):

@@ -27,7 +27,7 @@ from collections import deque
 
 from sph_fsi_core.jit_cache import COMPILING_LINE, scene_kernels_cached
 from sph_fsi_core.precompile import compile_cold_scene
-from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
+from sph_fsi_core.run import Progress, Run, headline, make_writable_dir, step_counts
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
 
@@ -64,7 +64,7 @@ def numbered(path, n):
 
 def _steps(sim):
     """Solid plus fluid steps taken so far (the diagnostics' steps/s)."""
-    return getattr(sim, "solid_steps", 0) + getattr(sim, "fluid_steps", 0)
+    return sum(step_counts(sim))
 
 
 class Runner:
@@ -558,17 +558,17 @@ class Runner:
         values = {"scene": sim.spec.name, "sim_time": f"{sim.time:.9g}", "end_time": f"{self._sync_end():.9g}",
                   "steps_per_second": f"{self._rate if running else 0.0:.6g}", "particles": str(sim.particle_count),
                   "moving_particles": str(sum(len(p[1]) for p in moving_particles(sim))),
-                  "solid_steps": str(getattr(sim, "solid_steps", 0)),
-                  "solid_dt": f"{getattr(sim, 'last_solid_dt', 0.0):.6g}"}
+                  "solid_steps": str(step_counts(sim)[0]),
+                  "solid_dt": f"{sim.solid_phase.last_dt if sim.solid_phase is not None else 0.0:.6g}"}
         progress = self.progress.numbers(self._sync_end())
         values.update(progress_percent=f"{progress['percent']:.3g}",
                       eta_s=f"{progress['eta_s']:.4g}" if running and progress["eta_s"] is not None else "",
                       particle_steps_per_second=f"{progress['particle_steps_per_second'] or 0.0:.6g}")
-        if getattr(sim, "fluid", None) is not None:   # the density correction's last step
-            values.update(iterations=f"{sim.last_density_iterations:d}",
-                          density_error=f"{sim.last_density_error:.6g}", fluid_steps=str(sim.fluid_steps),
-                          fluid_dt=f"{sim.last_fluid_dt:.6g}", capped_steps=str(sim.fluid_capped_steps),
-                          fluid_particles_lost=str(int(sim.fluid_lost.sum())))
+        water = sim.fluid_phase
+        if water is not None:   # the density correction's last step
+            values.update(iterations=f"{water.last_iterations:d}", density_error=f"{water.last_error_max:.6g}",
+                          fluid_steps=str(water.steps), fluid_dt=f"{water.last_dt:.6g}",
+                          capped_steps=str(water.capped_steps), fluid_particles_lost=str(int(water.lost.sum())))
         pending = self.pending()
         with self._cv:
             diverged = self._diverged

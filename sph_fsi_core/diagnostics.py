@@ -47,7 +47,7 @@ class Watchdog:
         self.sim = sim
         self.lo = domain_lo
         self.hi = domain_hi
-        self.conservative = getattr(sim.builder, "CONSERVATIVE", False)
+        self.conservative = sim.builder.conservative
         energies = sim.energies()
         self.initial_energy = sum(energies.values())
 
@@ -111,7 +111,7 @@ class Watchdog:
             self._trip("speed", bad, f"fluid speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = "
                                      f"{v['watchdog.max_speed']:g} m/s", "fluid")
         if self.lo is not None:
-            lost = sim.fluid_lost
+            lost = sim.fluid_phase.lost
             allowed = v["watchdog.max_fluid_lost"] * len(lost)
             if lost.sum() > allowed:
                 self._trip("left the domain", _where(lost),

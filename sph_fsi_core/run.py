@@ -39,7 +39,7 @@ class _Progress:
         self.last = now
         elapsed = now - self.start
         frac = min(sim.time / self.end_time, 1.0)
-        rate = (sim.solid_steps + sim.fluid_steps) / elapsed if elapsed > 0 else 0.0
+        rate = sum(step_counts(sim)) / elapsed if elapsed > 0 else 0.0
         eta = elapsed * (1.0 - frac) / frac if frac > 0 else float("nan")
         sys.stderr.write(f"\r  t = {sim.time:.4f} / {self.end_time:g} s  {100 * frac:5.1f} %  "
                          f"{rate:,.0f} steps/s  ETA {eta:6.1f} s ")
@@ -133,14 +133,17 @@ class RunLog:
         """status: 'finished' (end time reached: judged against the reference), 'diverged' (diverged is the
         Diverged exception), or how the run was cut short ('interrupted', 'reset'): not judged."""
         sim, stepping_s = self.sim, self.stepping_s
+        solid, water = sim.solid_phase, sim.fluid_phase
         evaluation = {}
-        if status == "finished" and hasattr(sim.builder, "evaluate"):
+        if status == "finished" and sim.builder.evaluate is not None:
             evaluation = sim.builder.evaluate(self.series(), sim.spec.values)
         solid_count = sim.solid.count if sim.solid is not None else 0
         fluid_count = sim.fluid.count if sim.fluid is not None else 0
+        solid_steps, fluid_steps = step_counts(sim)
         particle_steps = particle_steps_of(sim)
-        fluid_particle_iterations = fluid_count * sim.fluid_iterations
-        fluid_builds = sim.fluid_solver.builds if sim.fluid_solver is not None else 0
+        fluid_iterations = water.iterations if water is not None else 0
+        fluid_particle_iterations = fluid_count * fluid_iterations
+        pressure_solve = solid.solver.pressure_solve_stats() if solid is not None else None
         spec = sim.spec
         return {
             "scene": spec.name, "builder": spec.builder, "source": spec.source, "phases": list(sim.phases),
@@ -152,27 +155,29 @@ class RunLog:
             "status": status,
             "end_time_s": end_time, "simulated_time_s": sim.time, "stable": diverged is None,
             "diverged": diverged.as_dict() if diverged else None, "warnings": sim.warnings,
-            "solid_steps": sim.solid_steps, "outer_steps": sim.outer_steps, "solid_dt_s": sim.last_solid_dt,
-            "neighbour_builds": sim.neighbour_builds + fluid_builds,
-            "fluid_steps": sim.fluid_steps, "fluid_dt_s": sim.last_fluid_dt,
-            "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
-            "fluid_particles_lost": int(sim.fluid_lost.sum()) if sim.fluid is not None else 0,
-            **({"settling": sim.settled} if getattr(sim, "settled", None) else {}),
-            **({"solid_pressure_solve": sim.pressure_solve_stats()} if getattr(sim, "pressure_solve_stats", None)
-               and sim.pressure_solve_stats() else {}),
-            "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
+            "solid_steps": solid_steps, "outer_steps": sim.outer_steps,
+            "solid_dt_s": solid.last_dt if solid is not None else 0.0,
+            "neighbour_builds": ((solid.solver.neighbour_builds if solid is not None else 0)
+                                 + (water.solver.builds if water is not None else 0)),
+            "fluid_steps": fluid_steps, "fluid_dt_s": water.last_dt if water is not None else 0.0,
+            "fluid_iterations": fluid_iterations,
+            "fluid_capped_steps": water.capped_steps if water is not None else 0,
+            "fluid_particles_lost": int(water.lost.sum()) if water is not None else 0,
+            **({"settling": water.settled} if water is not None and water.settled else {}),
+            **({"solid_pressure_solve": pressure_solve} if pressure_solve else {}),
+            "fluid_iterations_per_step": fluid_iterations / fluid_steps if fluid_steps else None,
             "fluid_particle_iterations": fluid_particle_iterations,
             "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s
                                                      if stepping_s > 0 and fluid_count else None),
             "wall_time_s": self.setup_s + stepping_s, "setup_time_s": self.setup_s, "stepping_time_s": stepping_s,
             # of it, the solid's steps (with the coupling: its sub-steps); the rest is the fluid's and the outputs'
-            **({"solid_stepping_time_s": sim.solid_seconds} if solid_count else {}),
+            **({"solid_stepping_time_s": solid.seconds} if solid_count else {}),
             "particle_steps": particle_steps,
             "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
             "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
                           "surface_particles": sim.coupling.surface_count,
                           "last_substeps": sim.coupling.last_substeps}
-                         if getattr(sim, "coupling", None) else None),
+                         if sim.coupling is not None else None),
             "snapshots": snapshots, "machine": machine_info(),
             "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},
             **evaluation,
@@ -189,11 +194,18 @@ class RunLog:
         (out / "summary.json").write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
 
 
+def step_counts(sim):
+    """(solid steps, fluid steps) so far; 0 for a phase the scene does not have."""
+    return (sim.solid_phase.steps if sim.solid_phase is not None else 0,
+            sim.fluid_phase.steps if sim.fluid_phase is not None else 0)
+
+
 def particle_steps_of(sim):
     """Every solid particle (clamp included) per solid step plus every fluid particle per fluid step, so far."""
+    solid_steps, fluid_steps = step_counts(sim)
     solid_count = sim.solid.count if sim.solid is not None else 0
     fluid_count = sim.fluid.count if sim.fluid is not None else 0
-    return solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
+    return solid_count * solid_steps + fluid_count * fluid_steps
 
 
 class Progress:

@@ -179,13 +179,13 @@ def _resolve(builder_name, flat, origin):
                          + ", ".join(repr(b) for b in sorted(BUILDERS)))
     builder = BUILDERS[builder_name]
     # a geometry scene's phases and keys follow from its part, probe and judge lists (geometry/parts.py)
-    phases = builder.phases_of(flat) if hasattr(builder, "phases_of") else builder.PHASES
-    listed = builder.list_params(flat) if hasattr(builder, "list_params") else []
-    schema = Schema.for_builder(phases, builder.GEOMETRY + listed)
+    phases = builder.phases_of(flat) if builder.phases_of is not None else builder.phases
+    listed = builder.list_params(flat) if builder.list_params is not None else []
+    schema = Schema.for_builder(phases, builder.geometry + listed)
     all_sections = ({p.section for params in SECTIONS_BY_PHASE.values() for p in params} | {"geometry"}
                     | set(PHASE_NAMES) | set(LISTS))
     values = {k: p.default for k, p in schema.params.items()}
-    values.update(getattr(builder, "DEFAULTS", {}))
+    values.update(builder.defaults)
     explicit = {}
     for key, value in flat.items():
         param = schema.check_key(key, all_sections)
@@ -197,7 +197,7 @@ def _resolve(builder_name, flat, origin):
     if not values["scene.name"]:
         values["scene.name"] = builder_name
     check_required(values)
-    if hasattr(builder, "resolve_files"):
+    if builder.resolve_files is not None:
         builder.resolve_files(values, origin)
     check_combinations(values)
     builder.check(values)

@@ -74,7 +74,7 @@ def test_walls_continue_the_lattice():
     assert np.all(np.abs(f.rho[below_surface] - 1000.0) < 1e-10 * 1000.0)
     # the free surface's kernel is cut: those densities are short of rho0, not compressed
     assert f.rho[~below_surface].min() < 0.8 * 1000.0
-    assert sim.last_density_error < 1e-12
+    assert sim.fluid_phase.last_error_max < 1e-12
 
 
 def _free_block():
@@ -115,7 +115,7 @@ def test_iteration_cap_is_counted_and_reported():
     sim = Simulation(spec)
     for _ in range(5):
         sim.step()
-    assert sim.fluid_capped_steps > 0
+    assert sim.fluid_phase.capped_steps > 0
     assert sim.sample()["capped_steps"] > 0
     assert any("fluid.max_iterations = 1" in w for w in sim.warnings)
 
@@ -142,20 +142,20 @@ def test_phases_build_only_what_the_scene_has():
     assert not hasattr(fluid_only, "solid_work") and not hasattr(fluid_only, "solid_neighbours")
     assert "solid_dt" not in fluid_only.sample() and "strain_energy" not in fluid_only.energies()
     solid_only = Simulation(load_scene("cantilever"))
-    assert solid_only.fluid is None and solid_only.walls is None and solid_only.fluid_solver is None
+    assert solid_only.fluid is None and solid_only.walls is None and solid_only.fluid_phase is None
     assert "fluid_dt" not in solid_only.sample() and "fluid_kinetic_energy" not in solid_only.energies()
 
 
 def test_forced_time_step_above_the_limit_is_refused():
     sim = Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005"]))
-    limit = sim.stable_fluid_dt()
+    limit = sim.fluid_phase.stable_dt()
     with pytest.raises(SceneError, match="fluid.time_step"):
         sim.check({"fluid.time_step": 2.0 * limit})
     with pytest.raises(SceneError, match="fluid.time_step"):
         Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005", f"fluid.time_step={2.0 * limit}"]))
     assert sim.apply({"fluid.time_step": 0.5 * limit}) == []
     sim.step()
-    assert sim.last_fluid_dt <= 0.5 * limit * (1 + 1e-12)
+    assert sim.fluid_phase.last_dt <= 0.5 * limit * (1 + 1e-12)
 
 
 def test_watchdog_names_the_fluid_particle():
@@ -175,7 +175,7 @@ def test_water_that_splashes_out_is_held_still_and_counted():
     n = sim.fluid.count
     sim.fluid.pos[17] = sim.domain_hi + np.array([-0.01, -0.01, 0.001])   # just above the box's lid, at rest
     sim.step()
-    assert sim.fluid_lost.sum() == 1 and sim.fluid_lost[17]
+    assert sim.fluid_phase.lost.sum() == 1 and sim.fluid_phase.lost[17]
     held = sim.fluid.pos[17].copy()
     assert held[2] == sim.domain_hi[2] and np.all(sim.fluid.vel[17] == 0.0)
     assert "1 water particle(s) left the domain box" in sim.warnings[-1] and "fluid particle 17" in sim.warnings[-1]
@@ -223,7 +223,7 @@ def test_each_step_meets_the_criterion_it_is_given(on, tolerance):
     sim = Simulation(spec)
     cfl, h = spec["fluid.cfl"], sim.h
     for _ in range(25):
-        vmax = sim.fluid_solver.max_speed()
+        vmax = sim.fluid_phase.solver.max_speed()
         sim.step()
         row = sim.sample()
         assert row["capped_steps"] == 0

@@ -362,7 +362,7 @@ def test_the_cantilever_from_an_stl_moves_as_the_built_in_cantilever():
     while builtin.time < 0.005 - 1e-12:
         builtin.step()
         stl.step()
-    assert stl.time == builtin.time and stl.solid_steps == builtin.solid_steps > 300
+    assert stl.time == builtin.time and stl.solid_phase.steps == builtin.solid_phase.steps > 300
     moved = np.abs(builtin.solid.pos - start).max()
     assert moved > 2e-5                              # the free end at 0.01 m/s
     assert np.abs(stl.solid.pos[order] - builtin.solid.pos).max() < 1e-6 * moved

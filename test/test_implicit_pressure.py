@@ -33,12 +33,13 @@ def beam():
 def _solve(sim, vel, pressure, movable=None, mirror=None, dt=None, tolerance=1e-12):
     """The new velocity, the new pressure (the old plus the solution's change, which the solve keeps as the next
     warm start) and the solve's counters; rho and the pressure array must come back untouched."""
-    s, nb, wk, prm = sim.solid, sim.solid_solver.neighbours, sim.solid_solver.work, sim.solid_solver.params
+    solver = sim.solid_phase.solver
+    s, nb, wk, prm = sim.solid, solver.neighbours, solver.work, solver.params
     vel, p_in, rho = vel.copy(), pressure.copy(), prm.rho0 + pressure / prm.c0 ** 2
     rho_in = rho.copy()
     movable = s.movable if movable is None else movable
-    mirror = sim.solid_solver.clamp_mirror if mirror is None else mirror
-    dt = sim.last_solid_dt if dt is None else dt
+    mirror = solver.clamp_mirror if mirror is None else mirror
+    dt = sim.solid_phase.last_dt if dt is None else dt
     stats = np.zeros(4, dtype=np.int64)
     scalars = np.zeros((6, s.count))
     ip.implicit_pressure_step(dt, vel, rho, s.mass / rho, p_in, s.mass, movable, mirror, prm.c0 ** 2, nb.start,
@@ -53,7 +54,7 @@ def _random_state(sim, seed):
     n = sim.solid.count
     vel = rng.normal(scale=0.1, size=(n, 3))
     pressure = rng.normal(scale=1e4, size=n)
-    for g, m in enumerate(sim.solid_solver.clamp_mirror):      # the ghosts as the stepper leaves them
+    for g, m in enumerate(sim.solid_phase.solver.clamp_mirror):      # the ghosts as the stepper leaves them
         if m >= 0:
             vel[g] = -vel[m]
     pressure[~sim.solid.movable] = 0.0            # the mirrored clamp's particles carry no stress
@@ -61,9 +62,10 @@ def _random_state(sim, seed):
 
 
 def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
-    s, nb, wk, prm = beam.solid, beam.solid_solver.neighbours, beam.solid_solver.work, beam.solid_solver.params
+    solver = beam.solid_phase.solver
+    s, nb, wk, prm = beam.solid, solver.neighbours, solver.work, solver.params
     vel0, p0 = _random_state(beam, 1)
-    dt = beam.last_solid_dt
+    dt = beam.solid_phase.last_dt
     vel, p, stats = _solve(beam, vel0, p0)
     assert 0 < stats[ip.ITERATIONS] < 500 and stats[ip.CAPPED] == 0
     body = s.movable
@@ -76,13 +78,13 @@ def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
     # the impulse: pair forces of the new pressure with the step's volumes, ghosts folded onto their images
     force = np.zeros((s.count, 3))
     ip.pressure_forces(p, s.mass / rho0_step, nb.start, nb.index, wk.mls_weights, wk.buf, force)
-    for g, m in enumerate(beam.solid_solver.clamp_mirror):
+    for g, m in enumerate(beam.solid_phase.solver.clamp_mirror):
         if m >= 0:
             force[m] -= force[g]
     change = vel - vel0
     assert np.abs(change[body] - dt * force[body] / s.mass[body, None]).max() < 1e-9 * np.abs(change).max()
-    ghosts = beam.solid_solver.clamp_mirror >= 0
-    assert np.array_equal(vel[ghosts], -vel[beam.solid_solver.clamp_mirror[ghosts]])
+    ghosts = beam.solid_phase.solver.clamp_mirror >= 0
+    assert np.array_equal(vel[ghosts], -vel[beam.solid_phase.solver.clamp_mirror[ghosts]])
     assert np.array_equal(p[ghosts], p0[ghosts])
 
 
@@ -98,8 +100,9 @@ def test_pair_forces_conserve_momentum_on_a_free_body(beam):
 
 
 def test_the_operator_is_symmetric_positive_definite(beam):
-    s, nb, wk, prm = beam.solid, beam.solid_solver.neighbours, beam.solid_solver.work, beam.solid_solver.params
-    n, dt = s.count, 3.0 * beam.last_solid_dt
+    solver = beam.solid_phase.solver
+    s, nb, wk, prm = beam.solid, solver.neighbours, solver.work, solver.params
+    n, dt = s.count, 3.0 * beam.solid_phase.last_dt
     volume = s.mass / s.rho
     inv_k = 1.0 / (prm.c0 ** 2 * s.rho)
     index = np.flatnonzero(s.movable)       # the unknowns: the mirrored clamp's particles carry no stress
@@ -109,7 +112,7 @@ def test_the_operator_is_symmetric_positive_definite(beam):
     for col, i in enumerate(index):
         x[:] = 0.0
         x[i] = 1.0
-        ip._apply(x, volume, s.rho, prm.c0 ** 2, s.mass, s.movable, beam.solid_solver.clamp_mirror, nb.start, nb.index,
+        ip._apply(x, volume, s.rho, prm.c0 ** 2, s.mass, s.movable, solver.clamp_mirror, nb.start, nb.index,
                   wk.mls_weights, dt, wk.buf, wk.scalar_buf, force, u, theta, y)
         a[:, col] = y[index]
     assert np.abs(a - a.T).max() < 1e-12 * np.abs(a).max()
@@ -121,12 +124,15 @@ def test_the_operator_is_symmetric_positive_definite(beam):
 def test_the_step_is_set_by_the_deviatoric_waves():
     explicit = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", "solid.pressure=explicit"]))
     implicit = Simulation(load_scene("cantilever", BEAM))
-    shear, rho0, cfl, h = implicit.solid_solver.settings.shear_modulus, implicit.spec["solid.density"], implicit.spec["solid.cfl"], implicit.h
+    implicit_solver, explicit_solver = implicit.solid_phase.solver, explicit.solid_phase.solver
+    shear, rho0 = implicit_solver.settings.shear_modulus, implicit.spec["solid.density"]
+    cfl, h = implicit.spec["solid.cfl"], implicit.h
     vmax = np.sqrt((implicit.solid.vel ** 2).sum(axis=1).max())     # the beam starts moving
-    assert implicit.solid_solver.stable_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
-                                                       rel=1e-12)
-    assert explicit.solid_solver.stable_dt() == pytest.approx(cfl * h / (explicit.solid_solver.settings.sound_speed + vmax), rel=1e-12)
-    assert implicit.solid_solver.stable_dt() / explicit.solid_solver.stable_dt() > 5.5      # nu = 0.49
+    assert implicit_solver.stable_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
+                                                        rel=1e-12)
+    assert explicit_solver.stable_dt() == pytest.approx(cfl * h / (explicit_solver.settings.sound_speed + vmax),
+                                                        rel=1e-12)
+    assert implicit_solver.stable_dt() / explicit_solver.stable_dt() > 5.5      # nu = 0.49
 
 
 def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_take():
@@ -135,12 +141,12 @@ def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_tak
     def run(pressure, chunks, steps):
         sim = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", f"solid.pressure={pressure}",
                                                    "scene.gravity=[0, 0, 0]"]))
-        dt = 4.0 * sim.solid_solver.stable_dt() if pressure == "explicit" else sim.solid_solver.stable_dt()
+        dt = 4.0 * sim.solid_phase.solver.stable_dt() if pressure == "explicit" else sim.solid_phase.solver.stable_dt()
         sim.solid.vel[:] = 0.0
         sim.solid.rho[sim.solid.movable] *= 1.01
         worst = []
         for _ in range(chunks):
-            sim.solid_solver.advance(steps, dt)
+            sim.solid_phase.solver.advance(steps, dt)
             worst.append(float(np.abs(sim.solid.rho[sim.solid.movable] / sim.spec["solid.density"] - 1.0).max()))
             if not worst[-1] < 0.02:
                 break

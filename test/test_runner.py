@@ -241,7 +241,7 @@ def test_progress_in_the_log_and_on_diagnostics(runner, monkeypatch):
     assert first.startswith(f"t = {accumulated(4):.6g} of 0.004 s (25.0 %), ETA ")
     progress = runner.progress.numbers(0.004)
     assert progress["percent"] == pytest.approx(100.0)
-    steps = runner.sim.solid.count * runner.sim.solid_steps
+    steps = runner.sim.solid.count * runner.sim.solid_phase.steps
     assert progress["particle_steps_per_second"] == pytest.approx(steps / runner.progress.stepping_s)
     running = [v for level, message, v in out.diagnostics if message == "running"]
     assert running and all({"progress_percent", "eta_s", "particle_steps_per_second"} <= set(v) for v in running)

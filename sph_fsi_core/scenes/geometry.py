@@ -341,7 +341,7 @@ def _probes(values, built, index):
                                  reference_position=pos[at].copy()))
         elif kind == "force":
             phase, idx = index[keys["part"]]
-            out.append(ProbeSpec(name, kind, phase=phase, indices=idx))
+            out.append(ProbeSpec(name, kind, phase=phase, indices=idx, part=keys["part"]))
         else:
             out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64)))
     return out
