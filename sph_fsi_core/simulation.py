@@ -16,6 +16,7 @@ import numpy as np
 from .coupling.solver import Coupling
 from .diagnostics import Diverged, Watchdog, kinetic_energy
 from .probes import ProbeSet, probe_columns
+from .fluid.lost_water import LostWater
 from .fluid.solver import FluidSolver
 from .scene import SceneError, SceneSpec
 from .state import WallState
@@ -92,7 +93,8 @@ class Simulation:
         self.outer_steps = 0
         self.last_solid_dt = 0.0
         self.last_substeps = 0
-        self.warnings = []
+        self.warnings = list(built.warnings)
+        self.notes = list(built.notes)
         self._artificial_stress_warning = None   # the warnings that follow live changes
         self._cfl_warning = None
         self.solid_solver = None
@@ -137,6 +139,7 @@ class Simulation:
             self.fluid_initial_positions = self.fluid.pos.copy()
             self.fluid_lost = np.zeros(self.fluid.count, dtype=np.bool_)   # left the domain: held still
             self._fluid_lost_at = np.zeros((self.fluid.count, 3))
+            self.lost_water = LostWater(self.fluid.count, built)   # who left, when, where (fluid/lost_water.py)
         self.watchdog = Watchdog(self, built.domain_lo, built.domain_hi)
         self._probe_readings = self.probe_set.read(self)
 
@@ -209,11 +212,8 @@ class Simulation:
 
     def _clamp_mirror(self, built, clamp):
         """The ghost clamp's mirror map for solid.clamp = mirrored; empty (the fixed clamp) otherwise."""
-        if clamp == "fixed":
+        if clamp == "fixed" or built.clamp_mirror is None:     # or free bodies only (scenes.build_scene checks)
             return NO_MIRROR
-        if built.clamp_mirror is None or not (built.clamp_mirror >= 0).any():
-            raise SceneError(f"solid.clamp = {clamp}: scene builder '{self.spec.builder}' has no plane clamp face "
-                             f"to mirror the body across; allowed: fixed")
         return np.ascontiguousarray(built.clamp_mirror, dtype=np.int64)
 
     def _fluid_settings(self, spec):
@@ -345,17 +345,15 @@ class Simulation:
     def _hold_lost_fluid(self):
         """Water that left the domain box (a splash over a wall, falling outside the tank) is held still on the
         box's face where it left, as DualSPHysics excludes its "out" particles: alone there, it has no neighbours
-        and carries no pressure, and the run goes on. The watchdog counts them against watchdog.max_fluid_lost."""
+        and carries no pressure, and the run goes on; lost_water records them. The watchdog stops the run only if
+        the scene sets watchdog.max_fluid_lost below 1."""
         f = self.fluid
         out = ((f.pos < self.domain_lo) | (f.pos > self.domain_hi)).any(axis=1) & ~self.fluid_lost
         new = np.flatnonzero(out)
         if len(new):
             self._fluid_lost_at[new] = np.clip(f.pos[new], self.domain_lo, self.domain_hi)
             self.fluid_lost[new] = True
-            self.warnings.append(f"t = {self.time:.6g} s: {len(new)} water particle(s) left the domain box "
-                                 f"{self.domain_lo} .. {self.domain_hi} m (e.g. fluid particle {new[0]}, initially "
-                                 f"at {np.array2string(self.fluid_initial_positions[new[0]], precision=4)} m); "
-                                 f"held still where they left, {int(self.fluid_lost.sum())} in all")
+            self.lost_water.record(new, self.time, f.pos[new], self.warnings)
         if self.fluid_lost.any():
             lost = self.fluid_lost
             f.pos[lost] = self._fluid_lost_at[lost]
