@@ -8,12 +8,27 @@ scene of named wall parts, which wall or gate part each was nearest when it left
 (diagnostics.WaterLost).
 """
 import numpy as np
+from numba import njit
 
 from ..errors import plain
 
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
-# particles compared with the walls at once when finding the nearest wall (memory: this many times the walls)
-CHUNK = 64
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
+def nearest(points, candidates):
+    """The index of the candidate (N, 3) nearest to each point (P, 3), by brute force: a run calls it only for the
+    few particles that left in an outer step."""
+    out = np.empty(points.shape[0], dtype=np.int64)
+    for i in range(points.shape[0]):
+        best, at = np.inf, -1
+        for j in range(candidates.shape[0]):
+            d2 = ((points[i, 0] - candidates[j, 0]) ** 2 + (points[i, 1] - candidates[j, 1]) ** 2
+                  + (points[i, 2] - candidates[j, 2]) ** 2)
+            if d2 < best:
+                best, at = d2, j
+        out[i] = at
+    return out
 
 
 class LostWater:
@@ -34,7 +49,7 @@ class LostWater:
                 owners.append(np.full(len(idx), len(self.wall_names)))
                 positions.append(states[phase].pos[idx])
                 self.wall_names.append(name)
-        self._wall_pos = np.concatenate(positions) if positions else np.zeros((0, 3))
+        self._wall_pos = np.ascontiguousarray(np.concatenate(positions)) if positions else np.zeros((0, 3))
         self._wall_owner = np.concatenate(owners) if owners else np.zeros(0, dtype=np.int64)
 
     @property
@@ -49,10 +64,7 @@ class LostWater:
         beyond = np.concatenate([self.lo - pos, pos - self.hi], axis=1)          # (n, 6): -x, -y, -z, +x, +y, +z
         self.face[new] = np.array([0, 2, 4, 1, 3, 5], dtype=np.int8)[np.argmax(beyond, axis=1)]
         if len(self._wall_pos):
-            for start in range(0, len(new), CHUNK):
-                chunk = pos[start:start + CHUNK]
-                d2 = ((chunk[:, None, :] - self._wall_pos[None, :, :]) ** 2).sum(axis=2)
-                self.wall[new[start:start + CHUNK]] = self._wall_owner[np.argmin(d2, axis=1)]
+            self.wall[new] = self._wall_owner[nearest(np.ascontiguousarray(pos, dtype=np.float64), self._wall_pos)]
         if first:
             i = new[0]
             near = f", nearest parts.{self.wall_names[self.wall[i]]}" if self.wall[i] >= 0 else ""
