@@ -157,7 +157,7 @@ def compile_driver(scene, overrides):
     spec = load_scene(scene, list(overrides.items()))
     built, _ = build_scene(spec.builder, spec.values)
     h = spec["numerics.smoothing_ratio"] * spec["numerics.spacing"]
-    solver = SolidPhase(built.solid, built, spec.values, h, spec.builder, []).solver
+    solver = SolidPhase(built.solid, built, spec.values, h, []).solver
     signature = tuple(numba.typeof(value) for value in solver.leapfrog_arguments(1, False, 0.0))
     solid_drivers(solver.params)[0].compile(signature)
     return signature

@@ -16,6 +16,7 @@ wrong stops within one outer step with a diagnosis, and nothing non-finite leave
 from .boundary import Boundary
 from .coupling.solver import Coupling
 from .diagnostics import Diverged, Watchdog
+from .fluid.lost_water import LostWater
 from .fluid.phase import FluidPhase
 from .jit_cache import start_parallel_runtime
 from .numerics.kernels import lattice_density_scale
@@ -61,10 +62,11 @@ class Simulation:
         self.probe_set = ProbeSet(built.probes)
         self.time = 0.0
         self.outer_steps = 0
-        self.warnings = []
+        self.warnings = list(built.warnings)     # what the run should be told, and what it is told for the record
+        self.notes = list(built.notes)
         self.solid_phase = self.fluid_phase = self.coupling = self.boundary = None
         if self.solid is not None:
-            self.solid_phase = SolidPhase(self.solid, built, v, self.h, self.spec.builder, self.warnings)
+            self.solid_phase = SolidPhase(self.solid, built, v, self.h, self.warnings)
             self.solid_phase.start()
         if self.fluid is not None:
             self._start_water(built, v)
@@ -87,7 +89,8 @@ class Simulation:
         self.boundary = Boundary.of(built, v["fluid.density"], gates=settle_time > 0.0 or lifted, solid=self.solid,
                                     solid_mass=self.coupling.wall_mass if self.coupling is not None else None)
         self.fluid_phase = FluidPhase(self.fluid, self.boundary, v, self.h, self.period, built.domain_lo,
-                                      built.domain_hi, self.warnings, built.fluid_damping_rate)
+                                      built.domain_hi, self.warnings, LostWater(self.fluid.count, built),
+                                      built.fluid_damping_rate)
         if settle_time > 0.0:
             self.fluid_phase.settle(settle_time, self.boundary.follow_solid)
             if not lifted:                 # the release: the gates are gone, the water's lists made anew

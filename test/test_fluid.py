@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sph_fsi_core.diagnostics import Diverged
+from sph_fsi_core.diagnostics import Diverged, WaterLost
 from sph_fsi_core.fluid.okaji import viscous_velocity, xz_periodic_marker
 from sph_fsi_core.fluid.solver import FluidSolver
 from sph_fsi_core.numerics.kernels import cubic_spline_w, lattice_density_scale, lattice_kernel_sum
@@ -169,8 +169,9 @@ def test_watchdog_names_the_fluid_particle():
 
 def test_water_that_splashes_out_is_held_still_and_counted():
     """A particle thrown over the tank's wall leaves the domain box: it is held still on the box's face where it
-    left (it no longer falls), the run goes on with a warning naming it, the summary counts it; more than
-    watchdog.max_fluid_lost of the water outside stops the run naming the check and the key."""
+    left (it no longer falls), the run goes on with a warning naming it, the record counts it; where the scene sets
+    watchdog.max_fluid_lost, more of the water outside stops the run (WaterLost, not Diverged) naming the check and
+    the key."""
     sim = Simulation(load_scene("dam_break", ["numerics.spacing=0.005715", "watchdog.max_fluid_lost=0.01"]))
     n = sim.fluid.count
     sim.fluid.pos[17] = sim.domain_hi + np.array([-0.01, -0.01, 0.001])   # just above the box's lid, at rest
@@ -178,15 +179,19 @@ def test_water_that_splashes_out_is_held_still_and_counted():
     assert sim.fluid_phase.lost.sum() == 1 and sim.fluid_phase.lost[17]
     held = sim.fluid.pos[17].copy()
     assert held[2] == sim.domain_hi[2] and np.all(sim.fluid.vel[17] == 0.0)
-    assert "1 water particle(s) left the domain box" in sim.warnings[-1] and "fluid particle 17" in sim.warnings[-1]
+    assert "water began to leave the domain box" in sim.warnings[-1] and "1 particle(s) over its +z face (e.g. " \
+        "fluid particle 17)" in sim.warnings[-1]
+    assert sim.fluid_phase.lost_water.summary() == {"particles": 1, "fraction": 1 / n, "first_time_s": sim.time,
+                                        "faces": {"+z": 1}}
     for _ in range(3):
         sim.step()
     assert np.array_equal(sim.fluid.pos[17], held) and np.all(sim.fluid.vel[17] == 0.0)
     too_many = int(0.01 * n) + 1
     sim.fluid.pos[-too_many:, 2] = sim.domain_lo[2] - 0.01
-    with pytest.raises(Diverged) as info:
+    with pytest.raises(WaterLost) as info:
         sim.step()
     assert info.value.check == "left the domain" and info.value.phase == "fluid"
+    assert not isinstance(info.value, Diverged) and str(info.value).startswith("water lost: left the domain")
     assert f"{too_many + 1} water particle(s) left" in str(info.value) and "watchdog.max_fluid_lost" in str(info.value)
 
 

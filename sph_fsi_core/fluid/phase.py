@@ -23,10 +23,11 @@ SETTLE_STEP_IN_H = 2.0
 class FluidPhase:
     """The water (state.FluidState, advanced in place) against the walls of `boundary` (boundary.Boundary).
 
-    `warnings`: the run's list, which the phase appends to; `damping_rate` (1/s): a static case's relaxation of the
-    water's velocities (Built.fluid_damping_rate; 0 elsewhere, costing nothing)."""
+    `warnings`: the run's list, which the phase appends to; `lost_water`: the record of the water that leaves the
+    domain (fluid/lost_water.py); `damping_rate` (1/s): a static case's relaxation of the water's velocities
+    (Built.fluid_damping_rate; 0 elsewhere, costing nothing)."""
 
-    def __init__(self, fluid, boundary, values, h, period, box_lo, box_hi, warnings, damping_rate=0.0):
+    def __init__(self, fluid, boundary, values, h, period, box_lo, box_hi, warnings, lost_water, damping_rate=0.0):
         self.fluid = fluid
         self.h = float(h)
         self.period, self.box_lo, self.box_hi = period, box_lo, box_hi
@@ -45,6 +46,7 @@ class FluidPhase:
         self.settled = None            # what the settling phase did (fluid.settle_time > 0), for the summary
         self._dt_clamped = False
         self.lost = np.zeros(fluid.count, dtype=np.bool_)   # left the domain: held still (hold_lost)
+        self.lost_water = lost_water
         self._lost_at = np.zeros((fluid.count, 3))
         self.initial_positions = fluid.pos.copy()
         self.solver = None
@@ -207,18 +209,15 @@ class FluidPhase:
     def hold_lost(self, time, lo, hi):
         """Water that left the domain box [lo, hi] (a splash over a wall, falling outside the tank) is held still on
         the box's face where it left, as DualSPHysics excludes its "out" particles: alone there, it has no
-        neighbours and carries no pressure, and the run goes on. The watchdog counts them against
-        watchdog.max_fluid_lost."""
+        neighbours and carries no pressure, and the run goes on; `lost_water` records them. The watchdog stops the
+        run only if the scene sets watchdog.max_fluid_lost below 1."""
         f = self.fluid
         out = ((f.pos < lo) | (f.pos > hi)).any(axis=1) & ~self.lost
         new = np.flatnonzero(out)
         if len(new):
             self._lost_at[new] = np.clip(f.pos[new], lo, hi)
             self.lost[new] = True
-            self.warnings.append(f"t = {time:.6g} s: {len(new)} water particle(s) left the domain box "
-                                 f"{lo} .. {hi} m (e.g. fluid particle {new[0]}, initially "
-                                 f"at {np.array2string(self.initial_positions[new[0]], precision=4)} m); "
-                                 f"held still where they left, {int(self.lost.sum())} in all")
+            self.lost_water.record(new, time, f.pos[new], self.warnings)
         if self.lost.any():
             f.pos[self.lost] = self._lost_at[self.lost]
             f.vel[self.lost] = 0.0

@@ -16,6 +16,7 @@ A scene whose phases and keys follow from its file (the geometry builder) also h
     phases_of(flat)             its phases, from the scene's keys
     list_params(flat)           the Params of its part, probe and judge lists (geometry/parts.py)
     resolve_files(values, path) its files' paths made absolute, relative to the scene file
+    ABSENT_SECTIONS             {section: what in the file would give the scene that section}, for the refusal
 """
 from dataclasses import dataclass
 from typing import Callable
@@ -23,6 +24,7 @@ from typing import Callable
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
                dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
+from ..errors import SceneError
 from .built import check_layout, without_unreached_clamp
 
 
@@ -44,12 +46,14 @@ class Builder:
     phases_of: Callable = None
     list_params: Callable = None
     resolve_files: Callable = None
+    absent_sections: dict = None
 
     @classmethod
     def of(cls, name, module):
         """The interface of builder module `module`, registered as `name`."""
         optional = {key: getattr(module, key, None) for key in ("evaluate", "sample", "sample_fluid", "phases_of",
                                                                 "list_params", "resolve_files")}
+        optional["absent_sections"] = getattr(module, "ABSENT_SECTIONS", None)
         return cls(name, module.PHASES, module.GEOMETRY, getattr(module, "DEFAULTS", {}),
                    getattr(module, "CONSERVATIVE", False), module.check, module.build, module.particle_counts,
                    **optional)
@@ -66,12 +70,19 @@ DEFAULT_SCENE = "cantilever"
 
 def build_scene(builder, values):
     """A scene's particles as a run starts from them: `builder`'s (a name in BUILDERS) from `values`, checked
-    (built.check_layout: no overlapping bodies, nothing outside the domain), and with solid.clamp = mirrored
-    without the clamp's particles that no moving particle reaches (built.without_unreached_clamp). Returns
-    (Built, how many clamp particles were left out)."""
+    (built.check_layout: no overlapping bodies, nothing outside the domain; with solid.clamp = mirrored, a clamp
+    the builder can mirror the body across), and with solid.clamp = mirrored without the clamp's particles that no
+    moving particle reaches (built.without_unreached_clamp). Returns (Built, how many clamp particles were left
+    out)."""
     built = BUILDERS[builder].build(values)
     check_layout(built, values["numerics.spacing"])
-    if built.solid is None or values["solid.clamp"] != "mirrored" or built.clamp_mirror is None:
+    if built.solid is None or values["solid.clamp"] != "mirrored":
+        return built, 0
+    mirrored = built.clamp_mirror is not None and (built.clamp_mirror >= 0).any()
+    if not mirrored and not built.solid.movable.all():
+        raise SceneError(f"solid.clamp = mirrored: scene builder '{builder}' has no plane clamp face to mirror the "
+                         f"body across; allowed: fixed")
+    if not mirrored:     # free bodies only: no clamp to mirror
         return built, 0
     spacing = values["numerics.spacing"]
     h = values["numerics.smoothing_ratio"] * spacing

@@ -11,17 +11,14 @@ import time as _time
 import numpy as np
 
 from ..diagnostics import kinetic_energy
-from ..errors import SceneError
 from .solver import NO_EXTERNAL, NO_MIRROR, SolidSolver, artificial_stress_warning, cfl_warning
 
 
-def clamp_mirror(built, clamp, builder):
-    """The ghost clamp's mirror map for solid.clamp = mirrored; empty (the fixed clamp) otherwise."""
-    if clamp == "fixed":
+def clamp_mirror(built, clamp):
+    """The ghost clamp's mirror map for solid.clamp = mirrored; empty for the fixed clamp, and for free bodies only
+    (a clamp that cannot be mirrored is refused by scenes.build_scene)."""
+    if clamp == "fixed" or built.clamp_mirror is None:
         return NO_MIRROR
-    if built.clamp_mirror is None or not (built.clamp_mirror >= 0).any():
-        raise SceneError(f"solid.clamp = {clamp}: scene builder '{builder}' has no plane clamp face to mirror the "
-                         f"body across; allowed: fixed")
     return np.ascontiguousarray(built.clamp_mirror, dtype=np.int64)
 
 
@@ -30,7 +27,7 @@ class SolidPhase:
     (`solid_load`, ramped in over `load_ramp_time`) and its relaxation (`damping_rate`), both absent and costing
     nothing in most scenes. `warnings`: the run's list, which the phase appends to."""
 
-    def __init__(self, solid, built, values, h, builder, warnings):
+    def __init__(self, solid, built, values, h, warnings):
         self.solid = solid
         self.values = values
         self.warnings = warnings
@@ -38,7 +35,7 @@ class SolidPhase:
         self.damping_rate = built.damping_rate
         spacing = values["numerics.spacing"]
         self.solver = SolidSolver(solid, values, h, spacing, built.period, built.domain_lo, built.domain_hi,
-                                  clamp_mirror(built, values["solid.clamp"], builder))
+                                  clamp_mirror(built, values["solid.clamp"]))
         self.steps = 0
         self.seconds = 0.0          # wall time inside the solid's steps (summary.json's solid_stepping_time_s)
         self.last_dt = 0.0
