@@ -17,10 +17,10 @@ import time
 # GNU OpenMP threads spin between parallel regions; the correction loop runs four regions per iteration. On a
 # shared machine (load above the core count) spinning threads that lose their core stall every region (measured
 # 0.10 M particle-iterations/s spinning against 0.48 passive at load 4.3 on 2 cores), but on a quiet one passive
-# waiting costs the tank at 10^5 particles 1.7x (session 11, both code versions). Since 2026-12-05 sph_fsi_core
-# shortens the spin to 1000 (GOMP_SPINCOUNT, its __init__.py): as fast as the default on a quiet host, 3x faster
-# than it on this dam break with one other busy process in one hour (docs/method.md, "Performance design"). The
-# benchmark measures what the command line and the node run; the table records the policy and the spin count.
+# waiting costs the tank at 10^5 particles 1.7x (both code versions). sph_fsi_core shortens the spin to 1000
+# (GOMP_SPINCOUNT, its __init__.py): as fast as the default on a quiet host, 3x faster than it on this dam break with
+# one other busy process in one hour (docs/method.md, "Performance design"). The benchmark measures what the command
+# line and the node run; the table records the policy and the spin count.
 
 import numba  # noqa: E402
 
@@ -45,18 +45,18 @@ def measure(case, size, min_seconds=10.0):
     sim = Simulation(spec)
     sim.step()  # compile and warm up
     n = sim.fluid.count
-    steps0, its0, builds0 = sim.fluid_steps, sim.fluid_iterations, sim.fluid_solver.builds
+    steps0, its0, builds0 = sim.fluid_phase.steps, sim.fluid_phase.iterations, sim.fluid_phase.solver.builds
     t0 = time.perf_counter()
     while True:
         sim.step()
         elapsed = time.perf_counter() - t0
         if elapsed >= min_seconds:
             break
-    steps, its = sim.fluid_steps - steps0, sim.fluid_iterations - its0
+    steps, its = sim.fluid_phase.steps - steps0, sim.fluid_phase.iterations - its0
     return {"case": case, "label": size, "fluid_particles": n, "wall_particles": sim.walls.count,
-            "pairs_per_particle": round(sim.fluid_solver.fluid_neighbours.pairs / n, 1), "steps": steps,
+            "pairs_per_particle": round(sim.fluid_phase.solver.fluid_neighbours.pairs / n, 1), "steps": steps,
             "iterations_per_step": round(its / steps, 2), "seconds": round(elapsed, 3),
-            "neighbour_builds": sim.fluid_solver.builds - builds0,
+            "neighbour_builds": sim.fluid_phase.solver.builds - builds0,
             "particle_iterations_per_second": n * its / elapsed, "particle_steps_per_second": n * steps / elapsed,
             "threads": numba.get_num_threads(), "load_average": os.getloadavg()[0],
             "omp_wait_policy": os.environ.get("OMP_WAIT_POLICY", ""), "gomp_spincount": os.environ.get("GOMP_SPINCOUNT", "")}

@@ -4,11 +4,11 @@ another commit in the same process, and this checkout's whole run.
     python -m bench.main_job [--ref 9a465fb] [--window 0.02] [--full]
 
 Both versions build the scene `elastic_gate` as each one's defaults have it (the reference commit's own solid scheme:
-at 9a465fb Gray's, the paper's; here the default scheme; at 9a465fb across the paper's 36 mm, here since 2026-12-05
-the narrowest periodic slab, which gives the same answer: docs/validation/studies/gate_span), step to t = 2 ms
+at 9a465fb Gray's, the paper's; here the default scheme; at 9a465fb across the paper's 36 mm, here the narrowest
+periodic slab, which gives the same answer: docs/validation/studies/gate_span), step to t = 2 ms
 (compiling and the first load), then alternate one outer step (1 ms) each until `--window` of simulated time is done,
 timing each step: the ratio of simulated seconds per wall second (not particle-steps: the versions take steps of
-different sizes, and since 2026-12-05 different numbers of particles for the same answer). The gate's first
+different sizes, and different numbers of particles for the same answer). The gate's first
 20 ms are its slow start (the water pushes, the gate has barely moved): the fit's refreshes and the neighbour
 rebuilds grow as it swings, so `--full` also times this checkout's whole run to 0.14 s.
 On this 2-core VM a process can run at half speed for its whole life (docs/performance/BENCH.md): only the ratio in
@@ -48,7 +48,7 @@ def compare(ref, window):
             while sim.time < WARMUP - 1e-12:
                 sim.step()
         wall = {name: 0.0 for name in sims}
-        start = {name: (sim.time, sim.solid_steps, sim.fluid_steps) for name, sim in sims.items()}
+        start = {name: (sim.time, sim.solid_phase.steps, sim.fluid_phase.steps) for name, sim in sims.items()}
         while min(sim.time for sim in sims.values()) < WARMUP + window - 1e-12:
             for name, sim in sims.items():
                 t0 = time.perf_counter()
@@ -59,7 +59,7 @@ def compare(ref, window):
             t0, solid0, fluid0 = start[name]
             simulated = sim.time - t0
             out[name] = {"simulated_s": simulated, "wall_s": wall[name], "rate": simulated / wall[name],
-                         "solid_steps": sim.solid_steps - solid0, "fluid_steps": sim.fluid_steps - fluid0,
+                         "solid_steps": sim.solid_phase.steps - solid0, "fluid_steps": sim.fluid_phase.steps - fluid0,
                          "scheme": sim.spec.values.get("solid.scheme", sim.spec.values.get("solid.velocity_gradient")),
                          "particles": sim.particle_count,
                          "tip_dx_m": _tip_dx(sim)}
@@ -75,8 +75,8 @@ def full_run():
     end = sim.spec["scene.end_time"]
     while sim.time < end - 1e-12:
         sim.step()
-    return {"stepping_s": time.perf_counter() - t0, "simulated_s": sim.time, "solid_steps": sim.solid_steps,
-            "fluid_steps": sim.fluid_steps, "pressure": sim.pressure_solve_stats()}
+    return {"stepping_s": time.perf_counter() - t0, "simulated_s": sim.time, "solid_steps": sim.solid_phase.steps,
+            "fluid_steps": sim.fluid_phase.steps, "pressure": sim.solid_phase.solver.pressure_solve_stats()}
 
 
 def markdown(ref, result, full=None):
@@ -104,7 +104,7 @@ def markdown(ref, result, full=None):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--ref", default="9a465fb", help="the commit to compare with (the issue's: 9a465fb)")
+    parser.add_argument("--ref", default="9a465fb", help="the commit to compare with (default: 9a465fb, the gate before the default scheme)")
     parser.add_argument("--window", type=float, default=0.02, help="simulated seconds timed after the warm-up")
     parser.add_argument("--full", action="store_true", help="also time this checkout's whole run")
     args = parser.parse_args(argv)

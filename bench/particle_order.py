@@ -7,6 +7,7 @@ the same mass and no velocity, so permuting the positions renumbers it); the ite
 `python -m bench.particle_order [--steps N]`; docs/validation/OPEN.md, section 4, has what it measured.
 """
 import argparse
+import dataclasses
 import os
 import time
 
@@ -32,31 +33,25 @@ def permutation(pos, order, spacing):
     return np.argsort((cell[:, 0] * n[1] + cell[:, 1]) * n[2] + cell[:, 2], kind="stable")
 
 
-class _Renumbered:
-    """A scene builder module whose build() renumbers the water it makes (the rest delegated to the module)."""
-
-    def __init__(self, module, order):
-        self._module, self._order = module, order
-
-    def __getattr__(self, name):
-        return getattr(self._module, name)
-
-    def build(self, values):
-        built = self._module.build(values)
+def renumbered(builder, order):
+    """A scene builder (scenes.Builder) whose build() renumbers the water it makes."""
+    def build(values):
+        built = builder.build(values)
         fluid = built.fluid
         assert np.all(fluid.mass == fluid.mass[0]) and not np.any(fluid.vel), "the water must be built uniform at rest"
-        fluid.pos[:] = fluid.pos[permutation(fluid.pos, self._order, values["numerics.spacing"])]
+        fluid.pos[:] = fluid.pos[permutation(fluid.pos, order, values["numerics.spacing"])]
         return built
+    return dataclasses.replace(builder, build=build)
 
 
 def simulation(order):
     spec = load_scene("dam_break", CASES[("dam_break", "1e5")] + ["output.snapshot_interval=0"])
-    module = BUILDERS["dam_break"]
-    BUILDERS["dam_break"] = _Renumbered(module, order)
+    builder = BUILDERS["dam_break"]
+    BUILDERS["dam_break"] = renumbered(builder, order)
     try:
         return Simulation(spec)
     finally:
-        BUILDERS["dam_break"] = module
+        BUILDERS["dam_break"] = builder
 
 
 def main():
@@ -70,11 +65,11 @@ def main():
     iterations = dict.fromkeys(ORDERS, 0)
     for _ in range(args.steps):
         for order, sim in sims.items():
-            done = sim.fluid_iterations
+            done = sim.fluid_phase.iterations
             t0 = time.perf_counter()
             sim.step()
             seconds[order] += time.perf_counter() - t0
-            iterations[order] += sim.fluid_iterations - done
+            iterations[order] += sim.fluid_phase.iterations - done
     n = sims["lattice"].fluid.count
     rate = {order: n * iterations[order] / seconds[order] for order in ORDERS}
     print(f"dam break, {n} water particles, {args.steps} outer steps each, load {os.getloadavg()[0]:.1f}")

@@ -54,7 +54,7 @@ def build(scene):
 
 def set_steps_per_frame(sim, n):
     """One outer step = n solid steps (0.98: stays n while the stable step shrinks a little with speed)."""
-    sim.apply({"output.timeseries_interval": 0.98 * n * sim.solid_solver.stable_dt()})
+    sim.apply({"output.timeseries_interval": 0.98 * n * sim.solid_phase.solver.stable_dt()})
 
 
 def run_config(sim, name, frames, tmp):

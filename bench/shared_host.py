@@ -23,11 +23,11 @@ from sph_fsi_core.scene import load_scene
 from sph_fsi_core.simulation import Simulation
 sim = Simulation(load_scene("elastic_gate", json.loads(sys.argv[1])))
 sim.step()
-started, steps0 = time.perf_counter(), sim.solid_steps
+started, steps0 = time.perf_counter(), sim.solid_phase.steps
 for _ in range(int(sys.argv[2])):
     sim.step()
 print(json.dumps({"seconds_per_outer_step": (time.perf_counter() - started) / int(sys.argv[2]),
-                  "solid_steps": sim.solid_steps - steps0}))
+                  "solid_steps": sim.solid_phase.steps - steps0}))
 """
 
 

@@ -41,10 +41,10 @@ def build(label, extra):
 
 def time_round(sim, seconds):
     """Outer steps for about `seconds`: (solid steps, elapsed s)."""
-    start, t0 = sim.solid_steps, time.perf_counter()
+    start, t0 = sim.solid_phase.steps, time.perf_counter()
     while time.perf_counter() - t0 < seconds:
         sim.step()
-    return sim.solid_steps - start, time.perf_counter() - t0
+    return sim.solid_phase.steps - start, time.perf_counter() - t0
 
 
 def main(argv=None):
@@ -67,8 +67,8 @@ def main(argv=None):
             rates[name].append(steps * sim.particle_count / elapsed)
     n = sims["default"].particle_count
     result = {"particles": n, "threads": numba.get_num_threads(), "rounds": args.rounds,
-              "iterations_per_step": {name: sim.solid_solver.pressure_solve_stats()["iterations_per_step"]
-                                      for name, sim in sims.items() if sim.solid_solver.pressure_solve_stats()}}
+              "iterations_per_step": {name: sim.solid_phase.solver.pressure_solve_stats()["iterations_per_step"]
+                                      for name, sim in sims.items() if sim.solid_phase.solver.pressure_solve_stats()}}
     base = statistics.median(rates["default"])
     for name, values in rates.items():
         rate = statistics.median(values)

@@ -37,23 +37,23 @@ def measure(label, scheme="quadratic_plain", steps_target=2.0e7, min_seconds=5.0
     sim = Simulation(beam_spec(label, [f"solid.scheme={scheme}"]))
     sim.step()  # compile and warm up
     n = sim.particle_count
-    start_steps, start_time, t0 = sim.solid_steps, sim.time, time.perf_counter()
+    start_steps, start_time, t0 = sim.solid_phase.steps, sim.time, time.perf_counter()
     while True:
         sim.step()
         elapsed = time.perf_counter() - t0
-        done = (sim.solid_steps - start_steps) * n
+        done = (sim.solid_phase.steps - start_steps) * n
         if done >= steps_target or elapsed >= min_seconds:
             break
-    pairs = sim.solid_solver.neighbours.pairs / n
+    pairs = sim.solid_phase.solver.neighbours.pairs / n
     # what the same simulated time takes in steps of the explicit pressure's limit (the bulk sound speed): with the
-    # implicit pressure fewer, costlier steps do the same work, and the measure is time to the answer
+    # implicit pressure fewer, costlier steps do the same work, and what counts is the time to the answer
     vmax = float(np.sqrt((sim.solid.vel ** 2).sum(axis=1).max()))
-    explicit_dt = sim.spec["solid.cfl"] * sim.h / (sim.solid_solver.settings.sound_speed + vmax)
+    explicit_dt = sim.spec["solid.cfl"] * sim.h / (sim.solid_phase.solver.settings.sound_speed + vmax)
     equivalent = (sim.time - start_time) / explicit_dt * n
     return {"label": label, "scheme": scheme, "particles": n, "pairs_per_particle": round(pairs, 1),
-            "steps": sim.solid_steps - start_steps, "seconds": round(elapsed, 3),
+            "steps": sim.solid_phase.steps - start_steps, "seconds": round(elapsed, 3),
             "particle_steps_per_second": done / elapsed, "threads": numba.get_num_threads(),
-            "neighbour_builds": sim.neighbour_builds, "pressure": sim.spec["solid.pressure"],
+            "neighbour_builds": sim.solid_phase.solver.neighbour_builds, "pressure": sim.spec["solid.pressure"],
             "explicit_equivalent_per_second": equivalent / elapsed}
 
 

@@ -9,8 +9,10 @@
     sph-fsi validate [CASE ...] [--quick] [--workers N] [--missing]
     sph-fsi stability [NAME ...] [--ci] [--out DIR]
 
-Exit status: 0 on success; 2 on bad input (one line naming the key and the allowed range); 3 when the run
-diverged (one line naming the check that tripped, when and where); 130 when stopped by SIGINT or SIGTERM.
+Exit status: 0 on success; 2 on bad input (one line naming the key and the allowed range; nothing written); 3 when
+the run diverged (one line naming the check that tripped, when and where); 4 when more water left the domain than
+the scene's watchdog.max_fluid_lost allows (a stop it asked for, not a divergence); 130 when stopped by SIGINT or
+SIGTERM.
 
 SIGINT (Ctrl-C) and SIGTERM stop a run cleanly at the end of the current outer step: recordings get the state
 at that step and are closed whole. A second signal while the recordings close is ignored (a third exits at once).
@@ -23,6 +25,7 @@ from pathlib import Path
 
 EXIT_BAD_INPUT = 2
 EXIT_DIVERGED = 3
+EXIT_WATER_LOST = 4
 EXIT_INTERRUPTED = 130
 
 
@@ -41,20 +44,38 @@ def _cmd_keys(args):
     if args.yaml:
         sys.stdout.write(defaults_yaml())
         return 0
+    from sph_fsi_core.geometry.parts import REQUIRED, reference
     spec = load_scene(args.scene)
     for key, p in sorted(spec.schema.params.items()):
         value = spec.values[key]
         when = "at reset" if p.rebuild else "live"
         print(f"{key:40s} = {value!s:14s} [{p.unit or '-'}] {p.range_text()}; {when}. {p.description}")
+    print("# the keys of a geometry scene's parts, probes and judges (scene.builder: geometry), by role, shape and "
+          "kind:")
+    for _, entries, params in reference():
+        for p in params:
+            value = "required" if p.default is REQUIRED else p.default
+            print(f"{p.key:40s} = {value!s:14s} [{p.unit or '-'}] {p.range_text()}; {entries}. {p.description}")
     return 0
 
 
 def _check_out_dir(path):
+    """`path` if a run can write there, proven by making it (and its parents) and a file in it, then removing what
+    this made: the run makes the directory once its scene is built, so a refused scene leaves none."""
     from sph_fsi_core.run import make_writable_dir
+    path = Path(path)
+    made = [p for p in [path, *path.parents] if not p.exists()]
     try:
-        return make_writable_dir(path)
+        make_writable_dir(path)
     except OSError as exc:
         raise ValueError(f"--out {str(path)!r}: not writable ({exc.strerror}); allowed: a writable directory")
+    finally:
+        for p in made:          # deepest first
+            try:
+                p.rmdir()
+            except OSError:
+                break
+    return path
 
 
 class _Signals:
@@ -116,7 +137,7 @@ def _cmd_run(args):
     from sph_fsi_core.precompile import compile_cold_scene
     from sph_fsi_core.run import Interrupted, run_scene
     from sph_fsi_core.memory_guard import MAX_PARTICLES_ENV
-    from sph_fsi_core.scene import load_scene
+    from sph_fsi_core.scene import SceneError, load_scene, naming_the_file
     if args.max_particles is not None:
         if args.max_particles < 1:
             raise ValueError(f"--max-particles {args.max_particles}: allowed: a positive integer")
@@ -138,32 +159,44 @@ def _cmd_run(args):
         spec = spec.with_overrides({"scene.end_time": args.end_time})
         if restart is not None:
             restart["sim"].spec = spec
-    out = _check_out_dir(args.out or Path("runs") / spec.name)
-    checkpoint = Path(args.checkpoint) if args.checkpoint else out / "checkpoint.ckpt"
     if args.checkpoint:
         _check_writable_file("--checkpoint", args.checkpoint)
     mcap = _check_writable_file("--mcap", args.mcap)
     rrd = _check_writable_file("--rrd", args.rrd)
     if args.record_interval is not None and args.record_interval < 0:
         raise ValueError(f"--record-interval {args.record_interval:g}: allowed: >= 0 s (0 = every outer step)")
+    out = _check_out_dir(args.out or Path("runs") / spec.name)
+    checkpoint = Path(args.checkpoint) if args.checkpoint else out / "checkpoint.ckpt"
     recording = bool(mcap or rrd or args.rerun_connect)
-    print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) "
-          + (f"from its checkpoint at t = {restart['sim'].time:.6g} s " if restart else "")
-          + f"to t = {spec['scene.end_time']:g} s into {out}/", file=sys.stderr)
-    if not restart and "fluid" in spec.phases and spec["fluid.settle_time"] > 0.0:
-        print(f"sph-fsi: the water first settles at rest for fluid.settle_time = {spec['fluid.settle_time']:g} s "
-              f"before t = 0", file=sys.stderr)
-    state = {"rec": None, "sim": None, "stats": None, "samples": 0}
+    state = {"rec": None, "sim": None, "stats": None, "samples": 0, "said": 0}
     started = time.perf_counter()
-    cold = scene_kernels_cached(spec) is False
-    if cold:
+    cold = restart is None and scene_kernels_cached(spec) is False
+    if cold:    # the scene built and checked first (cheap), so a refusal does not wait for the compilation
+        spec.build()
         print(f"sph-fsi: {COMPILING_LINE}", file=sys.stderr)
         compile_cold_scene(spec, lambda line: print(f"sph-fsi: {line}", file=sys.stderr),
                            lambda line: print(f"sph-fsi: warning: {line}", file=sys.stderr))
+    if not restart and "fluid" in spec.phases and spec["fluid.settle_time"] > 0.0:
+        print(f"sph-fsi: the water first settles at rest for fluid.settle_time = {spec['fluid.settle_time']:g} s "
+              f"before t = 0", file=sys.stderr)
+
+    def announce(sim):
+        """Once the scene is built and checked: what runs where, what the build says, its warnings so far."""
+        print(f"sph-fsi: running '{spec.name}' ({', '.join(spec.phases)}) "
+              + (f"from its checkpoint at t = {sim.time:.6g} s " if restart else "")
+              + f"to t = {spec['scene.end_time']:g} s into {out}/", file=sys.stderr)
+        for note in getattr(sim, "notes", []):
+            print(f"sph-fsi: {note}", file=sys.stderr)
+        for warning in sim.warnings:
+            print(f"sph-fsi: warning: {warning}", file=sys.stderr)
+        state["said"] = len(sim.warnings)
+
     with _Signals() as signals:
         def on_sample(sim, row):
             state["sim"] = sim
             state["samples"] += 1
+            if state["samples"] == 1:
+                announce(sim)
             if cold and state["samples"] == 2:   # the first call is the initial state, the second the first step
                 print(f"sph-fsi: compiled and took the first step in {time.perf_counter() - started:.0f} s",
                       file=sys.stderr)
@@ -192,11 +225,12 @@ def _cmd_run(args):
             summary = run_scene(spec, out, on_sample=on_sample, recorder=ClosingRecorder if recording else None,
                                 restart=restart, checkpoint=checkpoint,
                                 checkpoint_interval=args.checkpoint_interval or 0.0)
-            if summary["stable"]:
-                status = "finished"
-            else:
-                d = summary["diverged"]
-                status, detail = "diverged", f"{d['check']} at t = {d['time']:.6g} s: {d['detail']}"
+            status = summary["status"]
+            d = summary["diverged"] or summary.get("stopped")
+            if d:
+                detail = f"{d['check']} at t = {d['time']:.6g} s: {d['detail']}"
+        except SceneError as exc:   # refused while building: before anything was announced or written
+            raise naming_the_file(exc, spec.source, spec.file_keys) from None
         except (Interrupted, KeyboardInterrupt):
             status = "interrupted"
         finally:
@@ -218,10 +252,13 @@ def _cmd_run(args):
             print(f"sph-fsi: checkpoint at t = {state['sim'].time:.6g} s in {checkpoint}; continue with "
                   f"sph-fsi run --restart {checkpoint}", file=sys.stderr)
         return EXIT_INTERRUPTED
-    _print_summary(summary, out)
+    _print_summary(summary, out, state["said"])
     if status == "diverged":
         print(f"sph-fsi: diverged: {detail}", file=sys.stderr)
         return EXIT_DIVERGED
+    if status == "water_lost":
+        print(f"sph-fsi: stopped, water lost (watchdog.max_fluid_lost): {detail}", file=sys.stderr)
+        return EXIT_WATER_LOST
     return 0
 
 
@@ -248,7 +285,9 @@ def _cmd_replay(args):
                   wait_timeout=args.wait_timeout)
 
 
-def _print_summary(s, out):
+def _print_summary(s, out, said=0):
+    """The run's summary in a few lines; its warnings after the first `said` (those printed when it started)."""
+    from sph_fsi_core.fluid.lost_water import lost_line
     from sph_fsi_core.run import solid_share_of_stepping
     steps = []
     if s.get("solid_steps"):
@@ -272,10 +311,14 @@ def _print_summary(s, out):
               f"{st['residual_max_speed_m_s']:.3g} m/s)")
     if s.get("error") is not None and s.get("frequency_hz") is None:
         print(f"error: {100 * s['error']:.2f} % ({s.get('error_metric', 'against the scene reference')})")
-    for warning in s.get("warnings", [])[:5]:
+    later = s.get("warnings", [])[said:]
+    for warning in later[:5]:
         print(f"warning: {warning}", file=sys.stderr)
-    if len(s.get("warnings", [])) > 5:
-        print(f"warning: ... {len(s['warnings']) - 5} more in summary.json", file=sys.stderr)
+    if len(later) > 5:
+        print(f"warning: ... {len(later) - 5} more in summary.json", file=sys.stderr)
+    lost = lost_line(s.get("fluid_lost"))
+    if lost:
+        print(f"water lost: {lost}")
     if s.get("frequency_hz") is not None and s.get("error") is not None:
         print(f"frequency: {s['frequency_hz']:.4f} +- {s['frequency_uncertainty_hz']:.4f} Hz over "
               f"{s['periods']:.1f} periods; reference {s['reference_hz']:.4f} Hz ({s['judged_against']}); "

@@ -13,8 +13,9 @@ parts together; each has its own module:
 Threads:
 - main thread: starts everything, then waits for a signal (SIGINT/SIGTERM) or the end of the run
   (on_end 'exit'); then stops the simulation thread, shuts the executor down and joins both. Exit status 0
-  (2: bad startup parameters; 3: the run diverged with on_end 'exit'). A second signal while the current outer
-  step finishes exits at once (status 130).
+  (2: bad startup parameters; 3: the run diverged with on_end 'exit'; 4: more water left the domain than the
+  scene's watchdog.max_fluid_lost allows, with on_end 'exit'). A second signal while the current outer step
+  finishes exits at once (status 130).
 - executor thread: services (~/reset, ~/pause, ~/step, ~/write_checkpoint) and parameter callbacks. They validate,
   hand the runner a command or a flag under its short lock and answer at once; they never wait for a step, except
   ~/write_checkpoint, which waits up to 5 s for the checkpoint to be written between two outer steps.
@@ -42,7 +43,7 @@ import time
 
 from .ament import ensure_ament_prefix
 from .parameters import StartupError
-from .runner import EXIT_BAD_INPUT, EXIT_DIVERGED  # noqa: F401  (the node's exit statuses)
+from .runner import EXIT_BAD_INPUT, EXIT_DIVERGED, EXIT_WATER_LOST  # noqa: F401  (its exit statuses)
 
 
 def main(args=None):

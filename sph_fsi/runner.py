@@ -27,17 +27,20 @@ from collections import deque
 
 from sph_fsi_core.jit_cache import COMPILING_LINE, scene_kernels_cached
 from sph_fsi_core.precompile import compile_cold_scene
-from sph_fsi_core.run import Progress, Run, headline, make_writable_dir
+from sph_fsi_core.run import Progress, Run, headline, make_writable_dir, step_counts
 from sph_fsi_core.scene import load_scene
 from sph_fsi_core.schema import SceneError
 
 from .points import moving_particles
 
-__all__ = ["Runner", "numbered", "EXIT_BAD_INPUT", "EXIT_DIVERGED"]
+__all__ = ["Runner", "numbered", "EXIT_BAD_INPUT", "EXIT_DIVERGED", "EXIT_WATER_LOST"]
 
 EXIT_BAD_INPUT = 2
 EXIT_DIVERGED = 3
+EXIT_WATER_LOST = 4     # more water left the domain than the scene's watchdog.max_fluid_lost allows
 PROGRESS_LOG_INTERVAL = 10.0   # s of wall time between progress lines in the log
+# the watchdog's stops (diagnostics.Stopped.outcome), as a message says them
+_STOPPED = {"diverged": "diverged", "water_lost": "stopped: more water left the domain than watchdog.max_fluid_lost"}
 
 
 def return_freed_memory():
@@ -64,7 +67,7 @@ def numbered(path, n):
 
 def _steps(sim):
     """Solid plus fluid steps taken so far (the diagnostics' steps/s)."""
-    return getattr(sim, "solid_steps", 0) + getattr(sim, "fluid_steps", 0)
+    return sum(step_counts(sim))
 
 
 class Runner:
@@ -86,7 +89,7 @@ class Runner:
         self._paused = False
         self._stopping = False
         self._finished = False
-        self._diverged = None                   # Diverged exception while diverged
+        self._stopped = None                    # the watchdog's Stopped (Diverged, WaterLost) once it tripped
         self._pending_keys = set()              # rebuild keys changed since the running simulation was built
         self._pending_settings = {}             # node parameters (scene, qos, recording) for the next reset
         self._last_error = ""
@@ -119,8 +122,8 @@ class Runner:
         """(accepted, message): one publish period while paused."""
         self._check_end_time()   # end_time may have been raised a moment ago, before the sim thread looked
         with self._cv:
-            if self._diverged is not None:
-                return False, "the run diverged; call ~/reset"
+            if self._stopped is not None:
+                return False, f"the run {_STOPPED[self._stopped.outcome]}; call ~/reset"
             if self._finished:
                 return False, "the run is at its end time; call ~/reset (or raise end_time)"
             if not self._paused:
@@ -212,10 +215,10 @@ class Runner:
         self._write_summary("interrupted")
 
     def status(self):
-        """(level 'ok' | 'warn' | 'error', 'running' | 'paused' | 'finished' | 'diverged')."""
+        """(level 'ok' | 'warn' | 'error', 'running' | 'paused' | 'finished' | 'diverged' | 'water_lost')."""
         with self._cv:
-            if self._diverged is not None:
-                return "error", "diverged"
+            if self._stopped is not None:
+                return ("error" if self._stopped.outcome == "diverged" else "warn"), self._stopped.outcome
             if self._finished:
                 return "ok", "finished"
             if self._paused:
@@ -273,7 +276,7 @@ class Runner:
 
     def _can_run(self):
         with self._cv:
-            return not (self._paused or self._finished or self._diverged is not None or self._stopping)
+            return not (self._paused or self._finished or self._stopped is not None or self._stopping)
 
     def _sync_end(self):
         """The run's end: the end_time parameter, or (0) the scene's scene.end_time."""
@@ -313,7 +316,7 @@ class Runner:
             self._write_checkpoint(cmd[1])
         elif kind == "step":
             with self._cv:
-                ok = self._paused and not self._finished and self._diverged is None
+                ok = self._paused and not self._finished and self._stopped is None
             if ok:
                 self.advance(interruptible=False)
 
@@ -354,13 +357,18 @@ class Runner:
         if restored is not None:
             self.log.info(f"continuing '{spec.name}' from its checkpoint at t = {run.sim.time:.6g} s "
                           f"({self.settings['restart_from']})")
+        else:     # what the build says (a part that took the water's sites, a free body), and its warnings
+            for note in run.sim.notes:
+                self.log.info(note)
+            for warning in run.sim.warnings:
+                self.log.warning(warning)
         self._close_recorders("reset")
         self._write_summary("reset")
         self.run, self.sim = run, run.sim
         self._outer_dt = run.sim.outer_step_duration()
         with self._cv:
             self._finished = False
-            self._diverged = None
+            self._stopped = None
             self._sim_time = 0.0
             qos = self._pending_settings.pop("qos", None)
         if qos is not None:
@@ -431,7 +439,7 @@ class Runner:
             if interruptible and self._interrupted():
                 break
             if not run.advance():
-                self._on_diverged()
+                self._on_stopped()
                 return
             done += 1
             self._take_applies()
@@ -469,24 +477,27 @@ class Runner:
             if self.settings["on_end"] == "exit":
                 self._end(0)
 
-    def _on_diverged(self):
-        exc = self.run.diverged
+    def _on_stopped(self):
+        exc = self.run.stopped
         with self._cv:
-            self._diverged = exc
+            self._stopped = exc
             self._sim_time = self.sim.time
-        self.log.error(str(exc))
-        self._write_summary("diverged")
+        if exc.outcome == "diverged":   # rclpy: one severity per call site
+            self.log.error(str(exc))
+        else:
+            self.log.warning(str(exc))
+        self._write_summary(exc.outcome)
         self._publish_diagnostics()
         if self.settings["on_end"] == "exit":
-            self._end(EXIT_DIVERGED)
+            self._end(EXIT_DIVERGED if exc.outcome == "diverged" else EXIT_WATER_LOST)
 
     # ---- the run's time series and summary (the last one written by stop()) ------------------------------
     def _write_summary(self, status):
         """Summary (error against the reference, wall time) to the log and, with out_dir, to disk; once per
         state: not again while the run has not stepped since (a reset or stop after the end or a divergence),
-        nor for a run that never stepped. A divergence always writes."""
+        nor for a run that never stepped. The watchdog's stop always writes."""
         run = self.run
-        if run is None or (status != "diverged" and run.sim.outer_steps == self._summary_steps):
+        if run is None or (status not in _STOPPED and run.sim.outer_steps == self._summary_steps):
             return
         self._summary_steps = run.sim.outer_steps
         self._sync_end()
@@ -538,7 +549,8 @@ class Runner:
         if self.run is None or not self.run.recorders:
             return
         with self._cv:
-            status = "diverged" if self._diverged is not None else "finished" if self._finished else reason
+            status = (self._stopped.outcome if self._stopped is not None else "finished" if self._finished
+                      else reason)
         for rec, stats in self.run.close(status):
             self.log.info(f"recording closed ({status}): {rec.frames} frames"
                           + (f"; the simulation waited {stats['waits']} times for the recorder"
@@ -558,20 +570,27 @@ class Runner:
         values = {"scene": sim.spec.name, "sim_time": f"{sim.time:.9g}", "end_time": f"{self._sync_end():.9g}",
                   "steps_per_second": f"{self._rate if running else 0.0:.6g}", "particles": str(sim.particle_count),
                   "moving_particles": str(sum(len(p[1]) for p in moving_particles(sim))),
-                  "solid_steps": str(getattr(sim, "solid_steps", 0)),
-                  "solid_dt": f"{getattr(sim, 'last_solid_dt', 0.0):.6g}"}
+                  "solid_steps": str(step_counts(sim)[0]),
+                  "solid_dt": f"{sim.solid_phase.last_dt if sim.solid_phase is not None else 0.0:.6g}"}
         progress = self.progress.numbers(self._sync_end())
         values.update(progress_percent=f"{progress['percent']:.3g}",
                       eta_s=f"{progress['eta_s']:.4g}" if running and progress["eta_s"] is not None else "",
                       particle_steps_per_second=f"{progress['particle_steps_per_second'] or 0.0:.6g}")
-        if getattr(sim, "fluid", None) is not None:   # the density correction's last step
-            values.update(iterations=f"{sim.last_density_iterations:d}",
-                          density_error=f"{sim.last_density_error:.6g}", fluid_steps=str(sim.fluid_steps),
-                          fluid_dt=f"{sim.last_fluid_dt:.6g}", capped_steps=str(sim.fluid_capped_steps),
-                          fluid_particles_lost=str(int(sim.fluid_lost.sum())))
+        water = sim.fluid_phase
+        if water is not None:   # the density correction's last step
+            values.update(iterations=f"{water.last_iterations:d}", density_error=f"{water.last_error_max:.6g}",
+                          fluid_steps=str(water.steps), fluid_dt=f"{water.last_dt:.6g}",
+                          capped_steps=str(water.capped_steps), fluid_particles_lost=str(int(water.lost.sum())))
+            lost = water.lost_water.summary()
+            if lost["particles"]:
+                values.update(fluid_lost_fraction=f"{lost['fraction']:.6g}",
+                              fluid_lost_since=f"{lost['first_time_s']:.9g}",
+                              fluid_lost_faces=", ".join(f"{k} {n}" for k, n in lost["faces"].items()),
+                              fluid_lost_nearest=", ".join(f"{k} {n}" for k, n in
+                                                           lost.get("nearest_walls", {}).items()))
         pending = self.pending()
         with self._cv:
-            diverged = self._diverged
+            stopped = self._stopped
             last_error = self._last_error
         if pending:
             values["pending_reset"] = ", ".join(pending)
@@ -579,10 +598,10 @@ class Runner:
             values["last_error"] = last_error
         if sim.warnings:
             values["warning"] = sim.warnings[-1]
-        if diverged is not None:
-            values.update({"check": diverged.check, "time": f"{diverged.time:.9g}", "detail": diverged.detail,
-                           "particles_involved": ", ".join(str(i) for i in diverged.particles)})
-            values["sim_time"] = f"{diverged.time:.9g}"
+        if stopped is not None:
+            values.update({"check": stopped.check, "time": f"{stopped.time:.9g}", "detail": stopped.detail,
+                           "particles_involved": ", ".join(str(i) for i in stopped.particles)})
+            values["sim_time"] = f"{stopped.time:.9g}"
         return level, message, values
 
     def _publish_diagnostics(self):

@@ -48,7 +48,7 @@ def write_checkpoint(run, path):
     path = Path(path)
     sim = run.sim
     state = {"sim": sim, "rows": run.log.rows, "setup_s": run.log.setup_s, "stepping_s": run.log.stepping_s,
-             "snapshots": run.snapshots, "next_snapshot": run.next_snapshot, "diverged": run.diverged}
+             "snapshots": run.snapshots, "next_snapshot": run.next_snapshot, "stopped": run.stopped}
     payload = pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
     header = {"format": FORMAT, "version": __version__, "source": source_fingerprint(), "scene": sim.spec.name,
               "time": sim.time, "outer_steps": sim.outer_steps, "written": time.strftime("%Y-%m-%dT%H:%M:%S"),

@@ -1,19 +1,26 @@
-"""Energies and the divergence watchdog.
+"""Energies and the watchdog: the checks that stop a run.
 
 The watchdog runs after every outer step. Checks, in order, for the solid: non-finite state, density out of
 [0.5, 2] rho0, particles faster than watchdog.max_speed, particles outside the scene's domain, and (scenes with no
 energy input) kinetic + strain energy above watchdog.energy_growth times its initial value; for the fluid:
-non-finite state, compression above fluid.max_density_error (the correction lost control), speed, more water
-outside the domain than watchdog.max_fluid_lost (Simulation holds the few that splash out still), and a
-stable fluid step collapsing below fluid.min_time_step. The first that trips raises Diverged naming the check,
-the simulated time, the phase and the particles involved (indices within their phase).
+non-finite state, compression above fluid.max_density_error (the correction lost control), speed, and a stable
+fluid step collapsing below fluid.min_time_step. The first that trips raises Diverged naming the check, the
+simulated time, the phase and the particles involved (indices within their phase).
+
+Water outside the domain is no divergence: a splash over a tank's rim is held still where it left (Simulation) and
+recorded (fluid/lost_water.py), and the run goes on, unless the scene asks it to stop once more than
+watchdog.max_fluid_lost of the water has left: then WaterLost, an outcome of its own (status water_lost).
 """
 import numpy as np
 from numba import njit
 
+from .errors import plain
 
-class Diverged(RuntimeError):
-    """The run left the physically sensible state: `check` tripped at `time` on `particles` (indices in `phase`)."""
+
+class Stopped(RuntimeError):
+    """The watchdog stopped the run: `check` tripped at `time` on `particles` (indices in `phase`). `outcome` is the
+    run's status."""
+    outcome = "stopped"
 
     def __init__(self, check, time, particles, detail, phase="solid"):
         self.check = check
@@ -21,11 +28,21 @@ class Diverged(RuntimeError):
         self.particles = list(int(i) for i in particles[:10])
         self.detail = detail
         self.phase = phase
-        super().__init__(f"diverged: {check} at t = {time:.6g} s: {detail}")
+        super().__init__(f"{self.outcome.replace('_', ' ')}: {check} at t = {time:.6g} s: {detail}")
 
     def as_dict(self):
         return {"check": self.check, "time": self.time, "phase": self.phase, "particles": self.particles,
                 "detail": self.detail}
+
+
+class Diverged(Stopped):
+    """The run left the physically sensible state (a numerical blow-up)."""
+    outcome = "diverged"
+
+
+class WaterLost(Stopped):
+    """More of the water left the domain than watchdog.max_fluid_lost allows: the stop the scene asked for."""
+    outcome = "water_lost"
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -47,16 +64,16 @@ class Watchdog:
         self.sim = sim
         self.lo = domain_lo
         self.hi = domain_hi
-        self.conservative = getattr(sim.builder, "CONSERVATIVE", False)
+        self.conservative = sim.builder.conservative
         energies = sim.energies()
         self.initial_energy = sum(energies.values())
 
-    def _trip(self, check, bad, detail, phase="solid"):
+    def _trip(self, check, bad, detail, phase="solid", stop=Diverged):
         initial = self.sim.initial_positions(phase)
         idx = bad[:3]
-        where = "; ".join(f"{phase} particle {i} (initially at {np.array2string(initial[i], precision=4)} m)"
+        where = "; ".join(f"{phase} particle {i} (initially at {plain(initial[i], 4)} m)"
                           for i in idx)
-        raise Diverged(check, self.sim.time, bad, f"{detail}; {len(bad)} {phase} particle(s), e.g. {where}", phase)
+        raise stop(check, self.sim.time, bad, f"{detail}; {len(bad)} {phase} particle(s), e.g. {where}", phase)
 
     def fluid_step_collapsed(self, dt):
         """Called by the fluid loop when its stable step falls below fluid.min_time_step: names the fastest."""
@@ -110,14 +127,14 @@ class Watchdog:
         if len(bad):
             self._trip("speed", bad, f"fluid speed {speed[bad[0]]:.4g} m/s above watchdog.max_speed = "
                                      f"{v['watchdog.max_speed']:g} m/s", "fluid")
-        if self.lo is not None:
-            lost = sim.fluid_lost
-            allowed = v["watchdog.max_fluid_lost"] * len(lost)
-            if lost.sum() > allowed:
+        limit = v["watchdog.max_fluid_lost"]
+        if self.lo is not None and limit < 1.0:      # 1: never (the default)
+            lost = sim.fluid_phase.lost
+            if lost.sum() > limit * len(lost):
                 self._trip("left the domain", _where(lost),
-                           f"{int(lost.sum())} water particle(s) left the box {self.lo} .. {self.hi} m, more than "
-                           f"watchdog.max_fluid_lost = {v['watchdog.max_fluid_lost']:g} of the water "
-                           f"({int(allowed)} particles)", "fluid")
+                           f"{int(lost.sum())} water particle(s) left the box {plain(self.lo)} .. {plain(self.hi)} m, "
+                           f"more than watchdog.max_fluid_lost = {limit:g} of the water "
+                           f"({int(limit * len(lost))} particles)", "fluid", WaterLost)
 
     def check_solid(self):
         sim = self.sim
@@ -135,7 +152,7 @@ class Watchdog:
         if self.lo is not None:
             bad = _where(((s.pos < self.lo) | (s.pos > self.hi)).any(axis=1))
             if len(bad):
-                self._trip("left the domain", bad, f"outside the box {self.lo} .. {self.hi} m")
+                self._trip("left the domain", bad, f"outside the box {plain(self.lo)} .. {plain(self.hi)} m")
         if self.conservative and self.initial_energy > 0.0:
             energy = sum(sim.energies().values())
             limit = v["watchdog.energy_growth"] * self.initial_energy

@@ -3,7 +3,7 @@
 The estimate: each builder's particle_counts(values) (the particles build() would make, computed from the layer
 counts without making them) times the resident memory a running particle of each phase takes, plus the process's
 base. The per-phase costs are the slopes of resident memory (psutil RSS after two steps) against particle count,
-measured on 2026-12-03 with one Numba thread, and rounded up:
+measured with one Numba thread, and rounded up:
     solid  5.5 kB: cantilever (quadratic fit, mirrored clamp) 8,544 -> 63,936 particles, 5.36 kB each;
     fluid  1.3 kB and walls 0.5 kB: dam break 26,868 -> 92,028 particles (fluid and walls), 1.18 kB each;
     the paper's gate 1 mm -> 0.5 mm (313,344 more of all three) takes 451 MB where these give 524 MB.
@@ -47,10 +47,7 @@ def max_particles_from_env():
 def check(builder, values):
     """SceneError if the scene's particles would not fit: above SPH_FSI_MAX_PARTICLES when set, else above the
     memory available now."""
-    counting = getattr(builder, "particle_counts", None)
-    if counting is None:
-        return
-    counts = counting(values)
+    counts = builder.particle_counts(values)
     particles, need = estimate(counts)
     dp = values["numerics.spacing"]
     phases = ", ".join(f"{phase} {n:,}" for phase, n in counts.items())

@@ -7,8 +7,8 @@ function compiles once per argument types, not per value. So two processes on tw
 halves at once, and the run then compiles only the coupling:
 - the solid's part compiles the scheme's driver (the leapfrog and every pass it calls: about half of all the
   compiling) for the argument types a run of the small beam passes it, from the beam's arrays as allocated
-  (Simulation.allocated), running no kernel (the settings that select compiled code: the scheme's keys and the
-  artificial stress's exponent, SOLID_CODE_KEYS);
+  (scenes.build_scene and the solid's phase, not started), running no kernel (the settings that select compiled
+  code: the scheme's keys and the artificial stress's exponent, SOLID_CODE_KEYS);
 - the fluid's part takes a step of the small dam break (the same fluid passes: a slab periodic along y), then a step
   of the same small beam: its neighbour list and fit (the solid's build), whose driver the other part has cached by
   then. Split so, the two parts take about the same time (each alone about 45 s on this host).
@@ -151,10 +151,13 @@ def compile_driver(scene, overrides):
     returns the signature."""
     import numba
     from .scene import load_scene
-    from .simulation import Simulation
+    from .scenes import build_scene
+    from .solid.phase import SolidPhase
     from .solid.stepper import solid_drivers
-    sim = Simulation.allocated(load_scene(scene, list(overrides.items())))
-    solver = sim.solid_solver
+    spec = load_scene(scene, list(overrides.items()))
+    built, _ = build_scene(spec.builder, spec.values)
+    h = spec["numerics.smoothing_ratio"] * spec["numerics.spacing"]
+    solver = SolidPhase(built.solid, built, spec.values, h, []).solver
     signature = tuple(numba.typeof(value) for value in solver.leapfrog_arguments(1, False, 0.0))
     solid_drivers(solver.params)[0].compile(signature)
     return signature

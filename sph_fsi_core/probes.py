@@ -41,8 +41,8 @@ FILLED = 0.5
 @dataclass
 class ProbeSpec:
     """A probe as a scene builds it (scenes/geometry.py): `point` has its solid particle `index` and that particle's
-    `reference_position`; `pressure` and `water_height` their `position`; `force` the `phase` ('walls', 'gate' or
-    'solid') and `indices` of the part it measures."""
+    `reference_position`; `pressure` and `water_height` their `position`; `force` the `part` it measures (by name),
+    its `phase` ('walls', 'gate' or 'solid') and its `indices` in that phase's particles."""
     name: str
     kind: str
     position: np.ndarray = None
@@ -50,6 +50,7 @@ class ProbeSpec:
     reference_position: np.ndarray = None
     phase: str = ""
     indices: np.ndarray = None
+    part: str = ""
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -151,25 +152,23 @@ class ProbeSet:
             self._force_mean.add(self._forces(sim), dt)
 
     def _groups(self, sim):
-        """Each of the fluid solver's wall particles' force probe (-1: none): its rows are the scene's walls, then a
-        gate while it stands (Simulation), then the solid in a coupled scene (coupling.Coupling.boundary)."""
-        solver = sim.fluid_solver
-        if self._wall_groups is None or self._wall_groups[0] is not solver:
-            groups = np.full(solver.wall_pos.shape[0], -1, dtype=np.int64)
-            walls = sim.walls.count if sim.walls is not None else 0
+        """Each of the water's wall particles' force probe (-1: none): the rows of the probed wall or gate part
+        (boundary.Boundary.part_rows; a gate's only while it stands). Made anew when the boundary is."""
+        boundary = sim.boundary
+        if self._wall_groups is None or self._wall_groups[0] is not boundary:
+            groups = np.full(boundary.count, -1, dtype=np.int64)
             for k, probe in enumerate(self.forces):
-                if probe.phase == "walls":
-                    groups[probe.indices] = k
-                elif probe.phase == "gate" and sim.gate_standing():
-                    groups[walls + probe.indices] = k
-            self._wall_groups = (solver, groups)
+                rows = boundary.part_rows(probe.part) if probe.phase != "solid" else None
+                if rows is not None:
+                    groups[rows] = k
+            self._wall_groups = (boundary, groups)
         return self._wall_groups[1]
 
     def _forces(self, sim):
         out = np.zeros((len(self.forces), 3))
         groups = self._groups(sim)
         if (groups >= 0).any():
-            out += sim.fluid_solver.wall_forces(groups, len(self.forces))
+            out += sim.fluid_phase.solver.wall_forces(groups, len(self.forces))
         for k, probe in enumerate(self.forces):
             if probe.phase == "solid" and sim.coupling is not None:
                 out[k] += sim.solid.mass[probe.indices] @ sim.coupling.acc[probe.indices]
@@ -191,7 +190,7 @@ class ProbeSet:
             for probe, p in zip(self.pressure, self._pressure_mean.take()):
                 out[probe.name] = ("pressure", {"pressure": float(p)})
         if self.heights:
-            water_pos, water_volume, wall_pos, wall_volume = sim.filling_particles()
+            water_pos, water_volume, wall_pos, wall_volume = sim.fluid_phase.filling_particles()
             step = sim.spacing / HEIGHT_SAMPLES_PER_SPACING
             for probe in self.heights:
                 x, y, z0 = probe.position

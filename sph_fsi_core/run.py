@@ -1,7 +1,8 @@
 """Headless runs: drive a Simulation to its end time and write timeseries.csv, summary.json and snapshots.
 
 Every run writes its error against the scene's reference together with the wall time it cost, whether it ends
-normally or diverges (then summary.json says which check tripped, and the exit status is non-zero).
+normally or the watchdog stops it (summary.json's status: diverged, or water_lost where the scene set
+watchdog.max_fluid_lost; it says which check tripped, and the exit status is non-zero).
 """
 import csv
 import json
@@ -17,7 +18,8 @@ import numba
 import numpy as np
 
 from .checkpoint import write_checkpoint
-from .diagnostics import Diverged
+from .diagnostics import Diverged, Stopped
+from .fluid.lost_water import lost_line
 from .vtk_snapshots import write_vtk_snapshot
 from .simulation import Simulation
 from .numerics.tensors import COMPONENT_NAMES
@@ -39,7 +41,7 @@ class _Progress:
         self.last = now
         elapsed = now - self.start
         frac = min(sim.time / self.end_time, 1.0)
-        rate = (sim.solid_steps + sim.fluid_steps) / elapsed if elapsed > 0 else 0.0
+        rate = sum(step_counts(sim)) / elapsed if elapsed > 0 else 0.0
         eta = elapsed * (1.0 - frac) / frac if frac > 0 else float("nan")
         sys.stderr.write(f"\r  t = {sim.time:.4f} / {self.end_time:g} s  {100 * frac:5.1f} %  "
                          f"{rate:,.0f} steps/s  ETA {eta:6.1f} s ")
@@ -86,8 +88,9 @@ def write_snapshot(sim, path, snapshot_index=0):
 
 
 def make_writable_dir(path):
-    """Create `path` (and parents) and prove it takes a file; raises OSError otherwise. Both the CLI's --out and
-    the node's out_dir call it before the run, so a bad directory is found before a long run, not after it."""
+    """Create `path` (and parents) and prove it takes a file; raises OSError otherwise. The node's out_dir and the
+    CLI's --out (which then removes what it made, until the scene is built) call it before the run, so a bad
+    directory is found before a long run, not after it."""
     out = Path(path)
     out.mkdir(parents=True, exist_ok=True)
     probe = out / ".write_test"
@@ -129,18 +132,22 @@ class RunLog:
     def series(self):
         return {k: np.array([r[k] for r in self.rows]) for k in self.rows[0]}
 
-    def summary(self, end_time, status, diverged=None, snapshots=0):
-        """status: 'finished' (end time reached: judged against the reference), 'diverged' (diverged is the
-        Diverged exception), or how the run was cut short ('interrupted', 'reset'): not judged."""
+    def summary(self, end_time, status, stopped=None, snapshots=0):
+        """status: 'finished' (end time reached: judged against the reference), the watchdog's stop ('diverged',
+        'water_lost': `stopped`, the diagnostics.Stopped exception), or how the run was cut short ('interrupted',
+        'reset'): not judged."""
         sim, stepping_s = self.sim, self.stepping_s
+        solid, water = sim.solid_phase, sim.fluid_phase
         evaluation = {}
-        if status == "finished" and hasattr(sim.builder, "evaluate"):
+        if status == "finished" and sim.builder.evaluate is not None:
             evaluation = sim.builder.evaluate(self.series(), sim.spec.values)
         solid_count = sim.solid.count if sim.solid is not None else 0
         fluid_count = sim.fluid.count if sim.fluid is not None else 0
+        solid_steps, fluid_steps = step_counts(sim)
         particle_steps = particle_steps_of(sim)
-        fluid_particle_iterations = fluid_count * sim.fluid_iterations
-        fluid_builds = sim.fluid_solver.builds if sim.fluid_solver is not None else 0
+        fluid_iterations = water.iterations if water is not None else 0
+        fluid_particle_iterations = fluid_count * fluid_iterations
+        pressure_solve = solid.solver.pressure_solve_stats() if solid is not None else None
         spec = sim.spec
         return {
             "scene": spec.name, "builder": spec.builder, "source": spec.source, "phases": list(sim.phases),
@@ -150,29 +157,35 @@ class RunLog:
                           **({"clamp_left_out": sim.unreached_clamp} if sim.unreached_clamp else {}),
                           **sim.particle_counts},
             "status": status,
-            "end_time_s": end_time, "simulated_time_s": sim.time, "stable": diverged is None,
-            "diverged": diverged.as_dict() if diverged else None, "warnings": sim.warnings,
-            "solid_steps": sim.solid_steps, "outer_steps": sim.outer_steps, "solid_dt_s": sim.last_solid_dt,
-            "neighbour_builds": sim.neighbour_builds + fluid_builds,
-            "fluid_steps": sim.fluid_steps, "fluid_dt_s": sim.last_fluid_dt,
-            "fluid_iterations": sim.fluid_iterations, "fluid_capped_steps": sim.fluid_capped_steps,
-            "fluid_particles_lost": int(sim.fluid_lost.sum()) if sim.fluid is not None else 0,
-            **({"settling": sim.settled} if getattr(sim, "settled", None) else {}),
-            **({"solid_pressure_solve": sim.pressure_solve_stats()} if getattr(sim, "pressure_solve_stats", None)
-               and sim.pressure_solve_stats() else {}),
-            "fluid_iterations_per_step": sim.fluid_iterations / sim.fluid_steps if sim.fluid_steps else None,
+            "end_time_s": end_time, "simulated_time_s": sim.time, "stable": not isinstance(stopped, Diverged),
+            "diverged": stopped.as_dict() if isinstance(stopped, Diverged) else None,
+            # a stop the scene asked for (watchdog.max_fluid_lost): not a divergence
+            **({"stopped": stopped.as_dict()} if stopped is not None and not isinstance(stopped, Diverged) else {}),
+            "warnings": sim.warnings, "notes": sim.notes,
+            "solid_steps": solid_steps, "outer_steps": sim.outer_steps,
+            "solid_dt_s": solid.last_dt if solid is not None else 0.0,
+            "neighbour_builds": ((solid.solver.neighbour_builds if solid is not None else 0)
+                                 + (water.solver.builds if water is not None else 0)),
+            "fluid_steps": fluid_steps, "fluid_dt_s": water.last_dt if water is not None else 0.0,
+            "fluid_iterations": fluid_iterations,
+            "fluid_capped_steps": water.capped_steps if water is not None else 0,
+            "fluid_particles_lost": int(water.lost.sum()) if water is not None else 0,
+            **({"fluid_lost": water.lost_water.summary()} if water is not None else {}),
+            **({"settling": water.settled} if water is not None and water.settled else {}),
+            **({"solid_pressure_solve": pressure_solve} if pressure_solve else {}),
+            "fluid_iterations_per_step": fluid_iterations / fluid_steps if fluid_steps else None,
             "fluid_particle_iterations": fluid_particle_iterations,
             "fluid_particle_iterations_per_second": (fluid_particle_iterations / stepping_s
                                                      if stepping_s > 0 and fluid_count else None),
             "wall_time_s": self.setup_s + stepping_s, "setup_time_s": self.setup_s, "stepping_time_s": stepping_s,
             # of it, the solid's steps (with the coupling: its sub-steps); the rest is the fluid's and the outputs'
-            **({"solid_stepping_time_s": sim.solid_seconds} if solid_count else {}),
+            **({"solid_stepping_time_s": solid.seconds} if solid_count else {}),
             "particle_steps": particle_steps,
             "particle_steps_per_second": particle_steps / stepping_s if stepping_s > 0 else None,
             "coupling": ({"model": sim.coupling.model, "gamma": sim.coupling.gamma,
                           "surface_particles": sim.coupling.surface_count,
                           "last_substeps": sim.coupling.last_substeps}
-                         if getattr(sim, "coupling", None) else None),
+                         if sim.coupling is not None else None),
             "snapshots": snapshots, "machine": machine_info(),
             "settings": {k: (list(v) if isinstance(v, tuple) else v) for k, v in spec.values.items()},
             **evaluation,
@@ -189,11 +202,18 @@ class RunLog:
         (out / "summary.json").write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
 
 
+def step_counts(sim):
+    """(solid steps, fluid steps) so far; 0 for a phase the scene does not have."""
+    return (sim.solid_phase.steps if sim.solid_phase is not None else 0,
+            sim.fluid_phase.steps if sim.fluid_phase is not None else 0)
+
+
 def particle_steps_of(sim):
     """Every solid particle (clamp included) per solid step plus every fluid particle per fluid step, so far."""
+    solid_steps, fluid_steps = step_counts(sim)
     solid_count = sim.solid.count if sim.solid is not None else 0
     fluid_count = sim.fluid.count if sim.fluid is not None else 0
-    return solid_count * sim.solid_steps + fluid_count * sim.fluid_steps
+    return solid_count * solid_steps + fluid_count * fluid_steps
 
 
 class Progress:
@@ -244,9 +264,12 @@ def headline(summary):
     checks = {k[len("check_"):]: v for k, v in s.items() if k.startswith("check_")}
     if checks:
         parts.append("checks " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in checks.items()))
-    if s["status"] == "diverged":
-        d = s["diverged"]
+    if s["status"] == "diverged" or s.get("stopped"):
+        d = s["diverged"] or s["stopped"]
         parts.append(f"{d['check']}: {d['detail']}")
+    lost = lost_line(s.get("fluid_lost"))
+    if lost:
+        parts.append(lost)
     solid_share = solid_share_of_stepping(s)
     parts.append(f"wall time {s['wall_time_s']:.1f} s (setup {s['setup_time_s']:.1f} s"
                  + (f", the solid's steps {100 * solid_share:.0f} % of the stepping)" if solid_share is not None
@@ -272,7 +295,7 @@ class Run:
         run.add_recorder(rec)             # optional: offered every sample, closed by run.close()
         while not run.at_end and run.advance():
             ...
-        summary = run.finish("finished")  # or "diverged" (run.diverged), "interrupted", "reset"
+        summary = run.finish("finished")  # or run.stopped.outcome ('diverged', 'water_lost'), "interrupted", ...
         run.close("finished")
 
     `end_time` None follows the scene's `scene.end_time`, read live (the node can change it); a number fixes it.
@@ -291,7 +314,7 @@ class Run:
             self.log = RunLog.restored(self.sim, restored)
         self.end_time = end_time
         self.out_dir = Path(out_dir) if out_dir else None
-        self.diverged = None                    # the Diverged exception, once the watchdog tripped
+        self.stopped = None                     # the watchdog's Stopped (Diverged, WaterLost), once it tripped
         self.hooks = []                         # hook(sim, row) after every sample
         self.recorders = []                     # closed by close()
         self.snapshots_dir = Path(snapshots_dir) if snapshots_dir else None
@@ -302,7 +325,7 @@ class Run:
         self.next_snapshot = 0.0
         if restored is not None:
             self.snapshots, self.next_snapshot = restored["snapshots"], restored["next_snapshot"]
-            self.diverged = restored["diverged"]
+            self.stopped = restored["stopped"]
 
     @property
     def end(self):
@@ -326,8 +349,8 @@ class Run:
         self.recorders.append(recorder)
 
     def advance(self):
-        """One outer step, sampled into the time series and handed to the hooks. False if the run diverged
-        (`self.diverged`: the state is left as the watchdog found it, unsampled). An exception from a hook ends
+        """One outer step, sampled into the time series and handed to the hooks. False if the watchdog stopped the
+        run (`self.stopped`: the state is left as the watchdog found it, unsampled). An exception from a hook ends
         the step (its stepping time still counted) and goes on to the caller."""
         t0 = time.perf_counter()
         try:
@@ -337,8 +360,8 @@ class Run:
                 self.next_snapshot += self._snapshot_dt
             try:
                 sim.step()
-            except Diverged as exc:
-                self.diverged = exc
+            except Stopped as exc:
+                self.stopped = exc
                 return False
             row = self.log.add_sample()
             for hook in self.hooks:
@@ -360,15 +383,15 @@ class Run:
         the caller). A finished run with snapshots gets its last snapshot first."""
         if status == "finished" and self._snapshot_dt > 0:
             self._write_snapshot()
-        summary = self.log.summary(self.end, status, self.diverged, self.snapshots)
+        summary = self.log.summary(self.end, status, self.stopped, self.snapshots)
         if self.out_dir:
             self.log.write(self.out_dir, summary)
         return summary
 
     @property
     def detail(self):
-        """How a diverged run tripped, one line; None otherwise."""
-        d = self.diverged
+        """How the watchdog stopped the run, one line; None if it did not."""
+        d = self.stopped
         return f"{d.check} at t = {d.time:.6g} s: {d.detail}" if d is not None else None
 
     def close(self, status):
@@ -398,11 +421,12 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, 
     end = end_time if end_time is not None else spec["scene.end_time"]
     progress = _Progress(end, sys.stderr.isatty() if progress is None else progress)
     out = Path(out_dir) if out_dir else None
+    # built and checked before anything is written: a refused scene leaves no output directory
+    run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None, restored=restart)
     if out:
         out.mkdir(parents=True, exist_ok=True)
         for stale in ("summary.json", "timeseries.csv"):   # an earlier run's, never mistaken for this one's
             (out / stale).unlink(missing_ok=True)
-    run = Run(spec, end, out_dir=out, snapshots_dir=out / "snapshots" if out else None, restored=restart)
     sim = run.sim
     if on_sample:
         run.add_hook(on_sample)
@@ -424,7 +448,7 @@ def run_scene(spec, out_dir=None, progress=None, end_time=None, on_sample=None, 
             while not run.at_end:
                 if not run.advance():
                     break
-            status = recorder_status = "diverged" if run.diverged is not None else "finished"
+            status = recorder_status = run.stopped.outcome if run.stopped is not None else "finished"
         except Interrupted:
             if checkpoint:    # between outer steps: a state to continue from
                 write_checkpoint(run, checkpoint)

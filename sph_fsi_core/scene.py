@@ -6,6 +6,7 @@ solid/schemes.py), then the file, then overrides; so a detailed key set in the f
 scheme, and a new scheme given later (`SceneSpec.with_overrides`) is expanded again under the keys set explicitly.
 Unknown keys, wrong types, out-of-range values and duplicate keys are SceneErrors naming the key.
 """
+import difflib
 import os
 import re
 import sys
@@ -15,9 +16,9 @@ from pathlib import Path
 import yaml
 
 from . import memory_guard
-from .geometry.parts import LISTS, NAME_RE, check_required
+from .geometry.parts import LISTS, NAME_RE, REQUIRED, check_required, reference
 from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError, check_combinations
-from .scenes import BUILDERS, DEFAULT_SCENE
+from .scenes import BUILDERS, DEFAULT_SCENE, build_scene
 from .solid.schemes import scheme_values
 
 __all__ = ["SceneError", "SceneSpec", "load_scene", "builtin_scene_path", "builtin_scenes", "parse_override"]
@@ -121,6 +122,32 @@ def parse_override(text):
     return key, parse_yaml(raw, origin=f"--set {key}") if raw.strip() else ""
 
 
+_ENTRY = {"parts": ("part", "role"), "probes": ("probe", "kind"), "judge": ("judge", "kind")}
+
+
+def check_entry_names(known, overrides):
+    """SceneError for an override of a list entry's key (`parts.<name>.<key>`) in a geometry scene whose entry is not
+    among the `known` keys' (the file's) and is not made whole by the overrides (they give no role or kind): the entry
+    is misnamed. The message lists the list's names, a near match first."""
+    if known.get("scene.builder") != "geometry":
+        return      # another builder has no lists: its schema refuses the section
+    for key, value in overrides.items():
+        which, _, rest = key.partition(".")
+        if which not in _ENTRY or rest.count(".") != 1:
+            continue
+        name = rest.split(".")[0]
+        names = list(dict.fromkeys(k.split(".")[1] for k in known if k.startswith(which + ".")
+                                   and k.count(".") == 2))
+        what, defining = _ENTRY[which]
+        if name in names or f"{which}.{name}.{defining}" in overrides:
+            continue
+        near = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
+        hint = f" (did you mean {near[0]!r}?)" if near else ""
+        allowed = ("one of " + ", ".join(repr(n) for n in names)) if names else f"none (the scene has no {which})"
+        raise SceneError(f"{key} = {value!r}: the scene has no {what} named {name!r}{hint}; allowed: {allowed}, or "
+                         f"a new {what} given its {defining} too")
+
+
 def _config_dirs():
     here = Path(__file__).resolve().parent
     dirs = [here.parent / "config", Path(sys.prefix) / "share" / "sph_fsi" / "config"]
@@ -168,9 +195,25 @@ class SceneSpec:
     def with_overrides(self, overrides):
         """A new spec with `overrides` ({key: value}) applied and validated. The keys set so far (file, earlier
         overrides) stay set; a new `solid.scheme` fills in every detailed key that none of them sets."""
-        return _resolve(self.builder, {**self._explicit, **overrides}, self.source)
+        file_keys = self.file_keys - set(overrides)
+        try:
+            check_entry_names(self._explicit, overrides)
+            spec = _resolve(self.builder, {**self._explicit, **overrides}, self.source)
+        except SceneError as exc:
+            raise naming_the_file(exc, self.source, file_keys) from None
+        spec.file_keys = file_keys
+        return spec
+
+    def build(self):
+        """The scene's particles as a run starts from them, built and checked (scenes.build_scene: (Built, clamp
+        particles left out)); a refusal names the scene file where it is about a key or a part the file set."""
+        try:
+            return build_scene(self.builder, self.values)
+        except SceneError as exc:
+            raise naming_the_file(exc, self.source, self.file_keys) from None
 
     _explicit: dict = None
+    file_keys: frozenset = frozenset()     # the keys the scene file set that no override replaced
 
 
 def _resolve(builder_name, flat, origin):
@@ -179,16 +222,17 @@ def _resolve(builder_name, flat, origin):
                          + ", ".join(repr(b) for b in sorted(BUILDERS)))
     builder = BUILDERS[builder_name]
     # a geometry scene's phases and keys follow from its part, probe and judge lists (geometry/parts.py)
-    phases = builder.phases_of(flat) if hasattr(builder, "phases_of") else builder.PHASES
-    listed = builder.list_params(flat) if hasattr(builder, "list_params") else []
-    schema = Schema.for_builder(phases, builder.GEOMETRY + listed)
+    phases = builder.phases_of(flat) if builder.phases_of is not None else builder.phases
+    listed = builder.list_params(flat) if builder.list_params is not None else []
+    schema = Schema.for_builder(phases, builder.geometry + listed)
     all_sections = ({p.section for params in SECTIONS_BY_PHASE.values() for p in params} | {"geometry"}
                     | set(PHASE_NAMES) | set(LISTS))
     values = {k: p.default for k, p in schema.params.items()}
-    values.update(getattr(builder, "DEFAULTS", {}))
+    values.update(builder.defaults)
     explicit = {}
+    absent = builder.absent_sections
     for key, value in flat.items():
-        param = schema.check_key(key, all_sections)
+        param = schema.check_key(key, all_sections, absent)
         explicit[key] = param.coerce(value)
     if "solid.scheme" in values:
         values.update(scheme_values(explicit.get("solid.scheme", values["solid.scheme"])))
@@ -197,7 +241,7 @@ def _resolve(builder_name, flat, origin):
     if not values["scene.name"]:
         values["scene.name"] = builder_name
     check_required(values)
-    if hasattr(builder, "resolve_files"):
+    if builder.resolve_files is not None:
         builder.resolve_files(values, origin)
     check_combinations(values)
     builder.check(values)
@@ -217,8 +261,12 @@ def load_scene(scene=None, overrides=()):
             raise SceneError(f"scene {scene!r}: no such built-in scene; allowed: one of "
                              + ", ".join(sorted(builtin_scenes())) + ", or a path to a .yaml file")
         path = found
+    if path.is_dir():
+        raise SceneError(f"scene file {str(path)!r}: a directory, not a file; allowed: a YAML scene file or a "
+                         f"built-in scene's name")
     if not path.is_file():
-        raise SceneError(f"scene file {str(path)!r}: not found")
+        raise SceneError(f"scene file {str(path)!r}: not found; allowed: a YAML scene file or one of "
+                         + ", ".join(sorted(builtin_scenes())))
     try:
         text = path.read_text(encoding="utf-8")
     except UnicodeDecodeError as exc:
@@ -232,25 +280,28 @@ def load_scene(scene=None, overrides=()):
     except SceneError as exc:
         raise (exc if str(exc).startswith(str(path)) else SceneError(f"{path}: {exc}")) from None
     from_file = set(flat)
-    overridden = set()
-    for item in overrides:
-        key, value = parse_override(item) if isinstance(item, str) else item
-        flat[key] = value
-        overridden.add(key)
+    parsed = dict(parse_override(item) if isinstance(item, str) else item for item in overrides)
+    check_entry_names(flat, parsed)
+    flat.update(parsed)
+    overridden = set(parsed)
     try:
         builder = flat.get("scene.builder", path.stem)
         if not isinstance(builder, str):
             raise SceneError(f"scene.builder = {builder!r}: expected a string naming a builder")
-        return _resolve(builder, flat, str(path))
+        spec = _resolve(builder, flat, str(path))
     except SceneError as exc:
-        raise _naming_the_file(exc, path, from_file - overridden) from None
+        raise naming_the_file(exc, path, from_file - overridden) from None
+    spec.file_keys = frozenset(from_file - overridden)
+    return spec
 
 
-def _naming_the_file(exc, path, file_keys):
-    """A SceneError about a key the scene file set, prefixed with the file's path (an override's stays as it is)."""
+def naming_the_file(exc, path, file_keys):
+    """A SceneError about a key the scene file set, or about a part, probe or judge it lists (`parts.box: ...`,
+    `parts: none`), prefixed with the file's path; an override's stays as it is."""
     message = str(exc)
     key = message.split(" ", 1)[0].rstrip(":")
-    if key in file_keys:
+    listed = key.split(".")[0] in LISTS and (key in LISTS or any(k.startswith(key + ".") for k in file_keys))
+    if (key in file_keys or listed) and not message.startswith(f"{path}: "):
         return SceneError(f"{path}: {message}")
     return exc
 
@@ -270,4 +321,25 @@ def defaults_yaml():
             text = yaml.safe_dump(default, default_flow_style=True).strip().removesuffix("...").strip()
             unit = f" [{p.unit}]" if p.unit else ""
             lines.append(f"  {p.key.split('.', 1)[1]}: {text}  #{unit} {p.description}; {p.range_text()}")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + list_keys_yaml()) + "\n"
+
+
+def list_keys_yaml():
+    """The keys of a geometry scene's parts, probes and judges by role, shape and kind (geometry/parts.reference),
+    as comment lines: each list is a sequence of mappings, so it has no single default to print."""
+    lines = ["", "# A geometry scene's lists (scene.builder: geometry): each a sequence of mappings with a unique "
+             "name;", "# the keys an entry may have by its role and shape (parts) or kind (probes, judge); "
+             "'required': no default."]
+    listed = None
+    for which, entries, params in reference():
+        if which != listed:
+            listed = which
+            lines.append(f"# {which}:")
+        lines.append(f"#   {entries}:")
+        for p in params:
+            default = list(p.default) if isinstance(p.default, tuple) else p.default
+            text = "required" if p.default is REQUIRED else \
+                yaml.safe_dump(default, default_flow_style=True).strip().removesuffix("...").strip()
+            unit = f" [{p.unit}]" if p.unit else ""
+            lines.append(f"#     {p.key.rsplit('.', 1)[1]}: {text}  #{unit} {p.description}; {p.range_text()}")
+    return lines

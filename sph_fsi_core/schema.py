@@ -132,9 +132,11 @@ COMMON = [
     _p("watchdog.energy_growth", 2.0, "1",
        "Scenes with no energy input stop as diverged once kinetic + strain energy exceeds this multiple of "
        "its initial value", low=1.0, low_inclusive=False, rebuild=False),
-    _p("watchdog.max_fluid_lost", 1.0e-3, "1",
+    _p("watchdog.max_fluid_lost", 1.0, "1",
        "Water particles that leave the scene's domain (a splash over a wall) are held still where they left and "
-       "counted; the run stops as diverged once more than this fraction of the water has left (0: the first one)",
+       "recorded (how many, when, over which face of the domain box, nearest which wall: the log, summary.json's "
+       "fluid_lost), and the run goes on: a splash is not a divergence. Below 1 the run stops once more than this "
+       "fraction of the water has left (0: at the first), with status water_lost (exit status 4); 1: never",
        low=0.0, high=1.0, rebuild=False),
 ]
 
@@ -329,14 +331,17 @@ class Schema:
     def sections(self):
         return sorted({p.section for p in self.params.values()})
 
-    def check_key(self, key, all_sections):
-        """SceneError unless `key` is declared here; names the phase when the key exists for other scenes."""
+    def check_key(self, key, all_sections, absent=None):
+        """SceneError unless `key` is declared here; names the phase when the key exists for other scenes, and why
+        this scene lacks it where `absent` ({section: what would give it}) says."""
         if key in self.params:
             return self.params[key]
         section = key.split(".", 1)[0]
         if section in all_sections and section not in self.sections():
+            why = f"; allowed: its sections' keys (it would have '{section}' with {absent[section]})" \
+                if absent and section in absent else ""
             raise SceneError(f"{key}: this scene has no '{section}' section (its sections: "
-                             f"{', '.join(self.sections())})")
+                             f"{', '.join(self.sections())}){why}")
         name = key.split(".", 1)[1] if "." in key else key
         if section not in self.sections():
             near = difflib.get_close_matches(section, self.sections(), n=1, cutoff=0.6)

@@ -3,8 +3,9 @@
 - no import cycle between the modules of sph_fsi_core (imports inside functions count too);
 - no module imports another module's private (underscore) name, nor reads or writes a private attribute that
   another module's classes own (`sim._x` where `self._x` is set in simulation.py, read from diagnostics.py);
-- the physics packages (numerics, solid, fluid) and coupling import nothing above them: not the scenes, the time
-  loop, the run loop or the validation code;
+- the floors (FLOORS): a module imports only modules of its own room (its package or file) or of a lower floor, so
+  no arrow runs back up: the physics know no scene, what states a scene's answer sits below the scenes, what runs
+  scenes and writes reports above them;
 - sph_fsi_core never imports sph_fsi (the node, the CLI, the recorders only read the core's state).
 
 The last test runs the checks on a made-up package with each fault, so a check that can no longer fail is noticed.
@@ -14,8 +15,20 @@ import textwrap
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-PHYSICS = ("numerics", "solid", "fluid", "coupling")
-ABOVE_PHYSICS = ("scenes", "simulation", "run", "validation", "scene", "answers", "jit_cache", "precompile")
+# sph_fsi_core's rooms (its subpackages and top-level modules) floor by floor, the ground first
+FLOORS = (
+    ("errors",),                                                 # the user's errors
+    ("numerics", "state", "diagnostics", "motion"),              # shared numerics, the particle arrays, motions
+    ("solid", "fluid", "coupling", "boundary", "probes", "vtk_snapshots"),   # the phases and what reads them
+    ("schema", "jit_cache"),                                     # every key; the kernels' cache
+    ("geometry", "memory_guard", "checkpoint"),                  # shapes on the lattice, guards, checkpoints
+    ("answers",),                                                # what a scene's answer is judged against
+    ("scenes",),                                                 # the builders
+    ("scene",),                                                  # loading a scene file
+    ("simulation",),                                             # the time loop
+    ("run", "precompile"),                                       # runs, compiling ahead
+    ("validation",),                                             # what runs scenes and writes the reports
+)
 
 
 def modules(root, package):
@@ -116,17 +129,30 @@ def foreign_private_attributes(paths):
     return sorted(bad)
 
 
-def layer_violations(known, edges, core):
+def floor_of(module, core, floors):
+    """(floor, room) of a module of `core` (None for the package itself, its face)."""
+    parts = module.split(".")
+    if len(parts) < 2:
+        return None
+    for level, rooms in enumerate(floors):
+        if parts[1] in rooms:
+            return level, parts[1]
+    raise AssertionError(f"{module}: on no floor of FLOORS; give its room a floor")
+
+
+def layer_violations(known, edges, core, floors=FLOORS):
+    """Imports that run back up (to a higher floor, or across rooms of one floor), and imports of sph_fsi."""
     bad = []
     for m in sorted(known):
-        parts = m.split(".")
-        if len(parts) > 1 and parts[1] in PHYSICS:
-            for t, _ in edges[m]:
-                tp = t.split(".")
-                if tp[0] == core and len(tp) > 1 and tp[1] in ABOVE_PHYSICS:
-                    bad.append(f"{m} imports {t}")
+        here = floor_of(m, core, floors)
         for t, _ in edges[m]:
             if t.split(".")[0] == "sph_fsi":
+                bad.append(f"{m} imports {t}")
+                continue
+            if here is None or t.split(".")[0] != core:
+                continue
+            there = floor_of(t, core, floors)
+            if there is not None and there[1] != here[1] and there[0] >= here[0]:
                 bad.append(f"{m} imports {t}")
     return bad
 
@@ -149,7 +175,7 @@ def test_no_module_reaches_into_another_modules_private_attributes():
     assert foreign_private_attributes(paths) == []
 
 
-def test_physics_does_not_import_what_is_built_on_it():
+def test_no_import_runs_back_up_a_floor():
     known, edges = graph(REPO, "sph_fsi_core")
     assert any(m.startswith("sph_fsi_core.solid.") for m in known)
     assert layer_violations(known, edges, "sph_fsi_core") == []
@@ -174,7 +200,10 @@ def test_the_checks_catch_each_fault(tmp_path):
     known, edges = graph(tmp_path, "bad")
     assert cycles(known, edges) == ["bad.a", "bad.b"]
     assert private_imports(known, edges) == ["bad.b imports bad.c._secret"]
-    assert layer_violations(known, edges, "bad") == ["bad.solid.stepper imports bad.simulation",
-                                                     "bad.solid.stepper imports sph_fsi.node"]
+    floors = (("c", "diagnostics"), ("solid",), ("a", "b", "simulation"))
+    assert layer_violations(known, edges, "bad", floors) == [
+        "bad.a imports bad.b", "bad.b imports bad.a",     # two rooms of one floor
+        "bad.solid.stepper imports bad.simulation",       # an arrow back up
+        "bad.solid.stepper imports sph_fsi.node"]
     assert foreign_private_attributes(sorted((tmp_path / "bad").rglob("*.py"))) == [("diagnostics.py", 2,
                                                                                        "_positions")]

@@ -38,9 +38,9 @@ def test_the_load_is_the_one_asked_for(kind):
     sim = Simulation(spec)
     inertia = v["geometry.width"] * v["geometry.thickness"] ** 3 / 12
     total = 2.0 * v["solid.young_modulus"] * inertia / v["geometry.length"] ** 2
-    assert sim.solid_load[:, 2].sum() == pytest.approx(-total, rel=1e-12)
-    assert np.all(sim.solid_load[:, :2] == 0.0) and np.all(sim.solid_load[~sim.solid.movable] == 0.0)
-    loaded = np.flatnonzero(sim.solid_load[:, 2])
+    assert sim.solid_phase.load[:, 2].sum() == pytest.approx(-total, rel=1e-12)
+    assert np.all(sim.solid_phase.load[:, :2] == 0.0) and np.all(sim.solid_phase.load[~sim.solid.movable] == 0.0)
+    loaded = np.flatnonzero(sim.solid_phase.load[:, 2])
     if kind == "tip":
         x = sim.solid.pos[loaded, 0]
         assert np.allclose(x, v["geometry.length"] - 0.5 * v["numerics.spacing"])
@@ -48,8 +48,8 @@ def test_the_load_is_the_one_asked_for(kind):
         assert len(loaded) == sim.solid.moving_count
     assert np.all(sim.solid.vel == 0.0)                  # at rest: no initial mode velocity
     omega = cantilever_loaded.first_mode_omega(v)
-    assert sim.damping_rate == pytest.approx(2 * v["geometry.damping_ratio"] * omega)
-    assert sim.load_ramp_time == pytest.approx(v["geometry.load_ramp_periods"] * 2 * math.pi / omega)
+    assert sim.solid_phase.damping_rate == pytest.approx(2 * v["geometry.damping_ratio"] * omega)
+    assert sim.solid_phase.load_ramp_time == pytest.approx(v["geometry.load_ramp_periods"] * 2 * math.pi / omega)
 
 
 @pytest.mark.slow

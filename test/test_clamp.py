@@ -21,7 +21,7 @@ SMALL_BEAM = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_m
 
 def test_each_clamp_particle_behind_the_beam_mirrors_the_beam_particle_at_its_image():
     sim = Simulation(load_scene("cantilever", ["solid.clamp=mirrored"]))
-    pos, movable, mirror = sim.solid.pos, sim.solid.movable, sim.solid_solver.clamp_mirror
+    pos, movable, mirror = sim.solid.pos, sim.solid.movable, sim.solid_phase.solver.clamp_mirror
     ghosts = np.flatnonzero(mirror >= 0)
     # 4 clamp layers x the 6 x 4 cross-section, the 3 the body reaches kept (the fourth: the water's wall in a
     # coupled scene, here nothing); the margin particles above and below the beam have no image
@@ -33,11 +33,11 @@ def test_each_clamp_particle_behind_the_beam_mirrors_the_beam_particle_at_its_im
     # the gate hangs from its clamp: the image is across the horizontal clamp face
     gate = Simulation(load_scene("elastic_gate", ["numerics.spacing=0.002", "solid.scheme=gray2001",
                                                   "solid.clamp=mirrored"]))
-    g = np.flatnonzero(gate.solid_solver.clamp_mirror >= 0)
+    g = np.flatnonzero(gate.solid_phase.solver.clamp_mirror >= 0)
     assert len(g) == np.count_nonzero(~gate.solid.movable)   # 3 clamp layers, all within the gate's reach
-    face = 0.5 * (gate.solid.pos[g, 2] + gate.solid.pos[gate.solid_solver.clamp_mirror[g], 2])
+    face = 0.5 * (gate.solid.pos[g, 2] + gate.solid.pos[gate.solid_phase.solver.clamp_mirror[g], 2])
     assert np.ptp(face) < 1e-12
-    assert np.abs(gate.solid.pos[g, :2] - gate.solid.pos[gate.solid_solver.clamp_mirror[g], :2]).max() < 1e-12
+    assert np.abs(gate.solid.pos[g, :2] - gate.solid.pos[gate.solid_phase.solver.clamp_mirror[g], :2]).max() < 1e-12
 
 
 def test_a_fixed_particle_whose_image_is_not_a_body_site_has_no_mirror():
@@ -52,13 +52,13 @@ def _root_gradient_error(clamp):
     """Largest error of the fitted velocity gradient over the beam for v = x (c + d z + e y), a field that
     vanishes on the clamp face, as a fraction of its largest entry."""
     sim = Simulation(load_scene("cantilever", [f"solid.clamp={clamp}", "geometry.clamp_margin=0"]))
-    s, wk, nb = sim.solid, sim.solid_solver.work, sim.solid_solver.neighbours
+    s, wk, nb = sim.solid, sim.solid_phase.solver.work, sim.solid_phase.solver.neighbours
     c, d, e = np.array([0.1, 0.3, -0.2]), np.array([40.0, -10.0, 25.0]), np.array([-15.0, 30.0, 5.0])
     x, y, z = s.pos[:, 0:1], s.pos[:, 1:2], s.pos[:, 2:3]
     s.vel[:] = np.where(s.movable[:, None], x * (c + d * z + e * y), 0.0)
-    mirror_clamp_velocities(s.vel, sim.solid_solver.clamp_mirror)
+    mirror_clamp_velocities(s.vel, sim.solid_phase.solver.clamp_mirror)
     grad = np.zeros((s.count, 3, 3))
-    solver = sim.solid_solver
+    solver = sim.solid_phase.solver
     xsph_velocity_and_mls_gradient(SolidArrays.of(s), SolidNeighbours.of(nb, solver.period),
                                    solver.params._replace(xsph_eps=0.5),
                                    wk.buffers()._replace(vhat=np.zeros((s.count, 3)), grad_v=grad))
@@ -66,7 +66,7 @@ def _root_gradient_error(clamp):
     exact[:, :, 0] = c + d * z + e * y
     exact[:, :, 1] = e * x
     exact[:, :, 2] = d * x
-    beam = s.movable & (sim.solid_solver.work.mls_order == 2)
+    beam = s.movable & (sim.solid_phase.solver.work.mls_order == 2)
     return np.abs(grad[beam] - exact[beam]).max() / np.abs(exact[beam]).max()
 
 
@@ -178,8 +178,8 @@ def test_the_clamp_the_body_never_reaches_becomes_the_waters_wall_where_it_was_b
     assert reached.sum() == 3 * 3 * 6
     assert np.array_equal(s.pos[~s.movable], w.pos[~w.movable][reached])
     # each kept ghost mirrors the same moving particle as before
-    kept_ghost = sim.solid_solver.clamp_mirror[~s.movable]
-    before = whole.solid_solver.clamp_mirror[~w.movable][reached]
+    kept_ghost = sim.solid_phase.solver.clamp_mirror[~s.movable]
+    before = whole.solid_phase.solver.clamp_mirror[~w.movable][reached]
     assert np.array_equal(s.pos[kept_ghost], w.pos[before])
     # the rest: in the water's walls after the tank's, at the built positions, with the coupling's wall mass
     held = sim.walls.pos[whole.walls.count:]

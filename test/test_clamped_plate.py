@@ -61,9 +61,9 @@ def test_load_ramps_in_and_damping_follows_the_first_mode():
     spec = load_scene("clamped_plate")
     sim = Simulation(spec)
     omega = clamped_plate.first_mode_omega(spec.values)
-    assert sim.load_ramp_time == pytest.approx(2.0 * 2.0 * math.pi / omega)
-    assert sim.damping_rate == pytest.approx(2.0 * omega)
-    full = sim.solid_load / sim.solid.mass[:, None]
-    assert np.allclose(sim._prescribed_acceleration(0.5 * sim.load_ramp_time), 0.5 * full)
-    assert np.allclose(sim._prescribed_acceleration(2.0 * sim.load_ramp_time), full)
-    assert not np.any(sim._prescribed_acceleration(0.0))
+    assert sim.solid_phase.load_ramp_time == pytest.approx(2.0 * 2.0 * math.pi / omega)
+    assert sim.solid_phase.damping_rate == pytest.approx(2.0 * omega)
+    full = sim.solid_phase.load / sim.solid.mass[:, None]
+    assert np.allclose(sim.solid_phase.prescribed_acceleration(0.5 * sim.solid_phase.load_ramp_time), 0.5 * full)
+    assert np.allclose(sim.solid_phase.prescribed_acceleration(2.0 * sim.solid_phase.load_ramp_time), full)
+    assert not np.any(sim.solid_phase.prescribed_acceleration(0.0))

@@ -21,14 +21,25 @@ def gate_sim():
 
 def test_phases_build_only_what_the_scene_has():
     cant = Simulation(load_scene("cantilever", [("numerics.spacing", 0.002)]))
-    assert cant.solid is not None and cant.fluid is None and cant.fluid_solver is None and cant.coupling is None
+    assert cant.solid is not None and cant.fluid is None and cant.fluid_phase is None and cant.coupling is None
     dam = Simulation(load_scene("dam_break", [("numerics.spacing", 0.05715 / 10)]))
-    assert dam.fluid is not None and dam.solid is None and dam.coupling is None
-    assert not hasattr(dam, "solid_work")
+    assert dam.fluid is not None and dam.solid is None and dam.solid_phase is None and dam.coupling is None
     gate = Simulation(load_scene("elastic_gate", COARSE))
     assert gate.solid is not None and gate.fluid is not None and isinstance(gate.coupling, Coupling)
-    # the fluid sums over walls + solid: the solid is a moving wall of the fluid
-    assert gate.fluid_solver.wall_pos.shape[0] == gate.walls.count + gate.solid.count
+    # the fluid sums over walls + solid: the solid is a moving wall of the fluid, the boundary's last block, where
+    # the solid is and with the coupling's mass for it
+    boundary = gate.boundary
+    assert gate.fluid_phase.solver.wall_pos is boundary.pos and boundary.count == gate.walls.count + gate.solid.count
+    assert boundary.rows("walls") == slice(0, gate.walls.count) and not boundary.has("gate")
+    assert np.array_equal(boundary.pos[boundary.rows("walls")], gate.walls.pos)
+    assert np.array_equal(boundary.pos[boundary.rows("solid")], gate.solid.pos)
+    assert np.array_equal(boundary.mass[boundary.rows("solid")], gate.coupling.wall_mass)
+    built = gate.solid.pos.copy()
+    gate.step()     # the boundary follows the solid before each fluid step: where it was at the last one's start
+    after_one = gate.solid.pos.copy()
+    gate.step()
+    assert not np.array_equal(after_one, built) and not np.array_equal(boundary.pos[boundary.rows("solid")], built)
+    assert boundary.follow_solid() and np.array_equal(boundary.pos[boundary.rows("solid")], gate.solid.pos)
 
 
 def test_coupling_keys_only_in_coupled_scenes():
@@ -125,7 +136,7 @@ def test_pressure_model_hydrostatic_load_direction():
 def test_substep_ratio():
     sim = Simulation(load_scene("elastic_gate", COARSE))
     c = sim.coupling
-    dts = sim.solid_solver.stable_dt()
+    dts = sim.solid_phase.solver.stable_dt()
     n, warning = c.substeps(1.0e-3, dts)
     assert n == math.ceil(1.0e-3 / dts) and warning is None
     c.configure("seed", 10.0, 10 * n)
@@ -139,7 +150,7 @@ def test_one_coupled_step_moves_both_phases_and_keeps_water_out_of_the_gate():
     sim = Simulation(load_scene("elastic_gate", COARSE + [("coupling.model", "pressure"),
                                                         ("output.timeseries_interval", 0.004)]))
     sim.step()
-    assert sim.fluid_steps >= 1 and sim.solid_steps >= sim.fluid_steps * 10
+    assert sim.fluid_phase.steps >= 1 and sim.solid_phase.steps >= sim.fluid_phase.steps * 10
     assert np.abs(sim.solid.vel[sim.solid.movable]).max() > 0.0
     # the boundary the fluid saw holds the solid where it was at the last fluid step
     gate_x = (sim.solid.pos[:, 0].min(), sim.solid.pos[:, 0].max())
@@ -167,7 +178,7 @@ def test_a_runaway_solid_stops_before_its_sub_steps(scene, overrides):
         sim.step()
     assert caught.value.check == "speed" and caught.value.particles[0] == moving   # the fastest first
     assert f"solid particle {moving}" in str(caught.value) and "before the solid's sub-steps" in str(caught.value)
-    assert sim.solid_steps == 0
+    assert sim.solid_phase.steps == 0
 
 
 @pytest.mark.parametrize("ratio", [2.0, 9.0])

@@ -30,7 +30,7 @@ def beam():
 
 
 def _fit(sim, pos, hessian_rows):
-    s, nb = sim.solid, sim.solid_solver.neighbours
+    s, nb = sim.solid, sim.solid_phase.solver.neighbours
     lists = NeighbourList(nb.radius, nb.skin, period=sim.period, half=True)
     lists.build(pos, pos)
     rows = np.zeros((s.count, N_BASIS if hessian_rows else 3, N_BASIS))

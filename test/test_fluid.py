@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sph_fsi_core.diagnostics import Diverged
+from sph_fsi_core.diagnostics import Diverged, WaterLost
 from sph_fsi_core.fluid.okaji import viscous_velocity
 from sph_fsi_core.numerics.periodic import xz_periodic_marker
 from sph_fsi_core.fluid.solver import FluidSolver
@@ -75,7 +75,7 @@ def test_walls_continue_the_lattice():
     assert np.all(np.abs(f.rho[below_surface] - 1000.0) < 1e-10 * 1000.0)
     # the free surface's kernel is cut: those densities are short of rho0, not compressed
     assert f.rho[~below_surface].min() < 0.8 * 1000.0
-    assert sim.last_density_error < 1e-12
+    assert sim.fluid_phase.last_error_max < 1e-12
 
 
 def _free_block():
@@ -116,7 +116,7 @@ def test_iteration_cap_is_counted_and_reported():
     sim = Simulation(spec)
     for _ in range(5):
         sim.step()
-    assert sim.fluid_capped_steps > 0
+    assert sim.fluid_phase.capped_steps > 0
     assert sim.sample()["capped_steps"] > 0
     assert any("fluid.max_iterations = 1" in w for w in sim.warnings)
 
@@ -143,20 +143,20 @@ def test_phases_build_only_what_the_scene_has():
     assert not hasattr(fluid_only, "solid_work") and not hasattr(fluid_only, "solid_neighbours")
     assert "solid_dt" not in fluid_only.sample() and "strain_energy" not in fluid_only.energies()
     solid_only = Simulation(load_scene("cantilever"))
-    assert solid_only.fluid is None and solid_only.walls is None and solid_only.fluid_solver is None
+    assert solid_only.fluid is None and solid_only.walls is None and solid_only.fluid_phase is None
     assert "fluid_dt" not in solid_only.sample() and "fluid_kinetic_energy" not in solid_only.energies()
 
 
 def test_forced_time_step_above_the_limit_is_refused():
     sim = Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005"]))
-    limit = sim.stable_fluid_dt()
+    limit = sim.fluid_phase.stable_dt()
     with pytest.raises(SceneError, match="fluid.time_step"):
         sim.check({"fluid.time_step": 2.0 * limit})
     with pytest.raises(SceneError, match="fluid.time_step"):
         Simulation(load_scene("hydrostatic", ["numerics.spacing=0.005", f"fluid.time_step={2.0 * limit}"]))
     assert sim.apply({"fluid.time_step": 0.5 * limit}) == []
     sim.step()
-    assert sim.last_fluid_dt <= 0.5 * limit * (1 + 1e-12)
+    assert sim.fluid_phase.last_dt <= 0.5 * limit * (1 + 1e-12)
 
 
 def test_watchdog_names_the_fluid_particle():
@@ -170,24 +170,29 @@ def test_watchdog_names_the_fluid_particle():
 
 def test_water_that_splashes_out_is_held_still_and_counted():
     """A particle thrown over the tank's wall leaves the domain box: it is held still on the box's face where it
-    left (it no longer falls), the run goes on with a warning naming it, the summary counts it; more than
-    watchdog.max_fluid_lost of the water outside stops the run naming the check and the key."""
+    left (it no longer falls), the run goes on with a warning naming it, the record counts it; where the scene sets
+    watchdog.max_fluid_lost, more of the water outside stops the run (WaterLost, not Diverged) naming the check and
+    the key."""
     sim = Simulation(load_scene("dam_break", ["numerics.spacing=0.005715", "watchdog.max_fluid_lost=0.01"]))
     n = sim.fluid.count
     sim.fluid.pos[17] = sim.domain_hi + np.array([-0.01, -0.01, 0.001])   # just above the box's lid, at rest
     sim.step()
-    assert sim.fluid_lost.sum() == 1 and sim.fluid_lost[17]
+    assert sim.fluid_phase.lost.sum() == 1 and sim.fluid_phase.lost[17]
     held = sim.fluid.pos[17].copy()
     assert held[2] == sim.domain_hi[2] and np.all(sim.fluid.vel[17] == 0.0)
-    assert "1 water particle(s) left the domain box" in sim.warnings[-1] and "fluid particle 17" in sim.warnings[-1]
+    assert "water began to leave the domain box" in sim.warnings[-1] and "1 particle(s) over its +z face (e.g. " \
+        "fluid particle 17)" in sim.warnings[-1]
+    assert sim.fluid_phase.lost_water.summary() == {"particles": 1, "fraction": 1 / n, "first_time_s": sim.time,
+                                        "faces": {"+z": 1}}
     for _ in range(3):
         sim.step()
     assert np.array_equal(sim.fluid.pos[17], held) and np.all(sim.fluid.vel[17] == 0.0)
     too_many = int(0.01 * n) + 1
     sim.fluid.pos[-too_many:, 2] = sim.domain_lo[2] - 0.01
-    with pytest.raises(Diverged) as info:
+    with pytest.raises(WaterLost) as info:
         sim.step()
     assert info.value.check == "left the domain" and info.value.phase == "fluid"
+    assert not isinstance(info.value, Diverged) and str(info.value).startswith("water lost: left the domain")
     assert f"{too_many + 1} water particle(s) left" in str(info.value) and "watchdog.max_fluid_lost" in str(info.value)
 
 
@@ -223,7 +228,7 @@ def test_each_step_meets_the_criterion_it_is_given(on, tolerance):
     sim = Simulation(spec)
     cfl, h = spec["fluid.cfl"], sim.h
     for _ in range(25):
-        vmax = sim.fluid_solver.max_speed()
+        vmax = sim.fluid_phase.solver.max_speed()
         sim.step()
         row = sim.sample()
         assert row["capped_steps"] == 0

@@ -137,8 +137,8 @@ def open_stl(tmp_path):
 
 
 REFUSED = [
-    ({"name": "box", "role": "wall", "shape": "box", "size": [0.06, 0.06, 0.06], "position": [0.05, 0.05, 0.05]},
-     "parts.box: overlaps parts.water at"),
+    ({"name": "box", "role": "wall", "shape": "box", "size": [0.06, 0.06, 0.06], "position": [0.3, 0.05, 0.05]},
+     "parts.box: overlaps parts.tank at"),
     ({"name": "plate", "role": "solid", "shape": "box", "size": [0.02, 0.1, 0.1], "position": [0.2, 0.05, 0.05]},
      "parts.plate: under three particle layers through"),
     ({"name": "fin", "role": "solid", "shape": "mesh", "file": "missing.stl", "position": [0.2, 0.05, 0.05]},
@@ -205,14 +205,17 @@ def test_a_judge_must_name_a_column_the_scene_writes(tmp_path):
 
 def test_the_command_line_refuses_a_malformed_part_in_one_line_with_status_2(tmp_path):
     path = scene_file(tmp_path, with_part({"name": "box", "role": "wall", "shape": "box", "size": [0.06, 0.06, 0.06],
-                                           "position": [0.05, 0.05, 0.05]}))
+                                           "position": [0.3, 0.05, 0.05]}))
     proc = subprocess.run([sys.executable, "-m", "sph_fsi.cli", "run", path, "--out", str(tmp_path / "out")],
                           capture_output=True, text=True, timeout=600, env={**os.environ, "NUMBA_NUM_THREADS": "1"})
     assert proc.returncode == 2, proc.stderr
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
-    # the run's first line says what it starts; the refusal is one line, the last
-    assert lines[-1].startswith("sph-fsi: parts.box: overlaps parts.water at 216 lattice site(s)"), proc.stderr
+    # refused before the run is announced (a cold cache may say it compiles first): one line, the last, naming
+    # the file and the part; no output directory
+    assert lines[-1].startswith(f"sph-fsi: {path}: parts.box: overlaps parts.tank at 108 lattice site(s)"), \
+        proc.stderr
     assert sum("overlaps" in ln for ln in lines) == 1 and "Traceback" not in proc.stderr
+    assert not any("running" in ln for ln in lines) and not (tmp_path / "out").exists()
 
 
 def test_the_memory_guard_counts_a_geometry_scene_before_building_it(monkeypatch):
@@ -362,7 +365,7 @@ def test_the_cantilever_from_an_stl_moves_as_the_built_in_cantilever():
     while builtin.time < 0.005 - 1e-12:
         builtin.step()
         stl.step()
-    assert stl.time == builtin.time and stl.solid_steps == builtin.solid_steps > 300
+    assert stl.time == builtin.time and stl.solid_phase.steps == builtin.solid_phase.steps > 300
     moved = np.abs(builtin.solid.pos - start).max()
     assert moved > 2e-5                              # the free end at 0.01 m/s
     assert np.abs(stl.solid.pos[order] - builtin.solid.pos).max() < 1e-6 * moved

@@ -233,13 +233,13 @@ def test_two_layer_beam_keeps_the_linear_fit_as_it_bends_and_the_fit_is_remade()
     blew up at 2.75 ms. Measured now: no particle changes its fit order over 20 ms (its rows remade or turned as it
     moves), and the run is stable."""
     sim = Simulation(load_scene("cantilever", ["numerics.spacing=0.002", "output.snapshot_interval=0"]))
-    order = sim.solid_solver.work.mls_order.copy()
+    order = sim.solid_phase.solver.work.mls_order.copy()
     moving = sim.solid.movable
     # every moving particle linear (the root's 12 had quadratic fits while the mirrored clamp kept the fixed clamp's
     # margin above and below the root: scenes/cantilever.py)
     assert (order[moving] == 1).sum() == 120
     while sim.time < 0.02:
         sim.step()
-        assert (sim.solid_solver.work.mls_order == order).all()
-    assert sim.solid_steps > 900      # 20 ms in steps of the deviatoric waves (the implicit pressure)
+        assert (sim.solid_phase.solver.work.mls_order == order).all()
+    assert sim.solid_phase.steps > 900      # 20 ms in steps of the deviatoric waves (the implicit pressure)
     assert np.isfinite(sim.solid.vel).all() and np.abs(sim.solid.vel).max() < 0.02

@@ -69,7 +69,7 @@ def test_the_water_relaxes_by_exp_minus_rate_per_outer_step():
                                                                "geometry.water_damping_ratio=0"]))
     damped.step()
     free.step()
-    factor = math.exp(-damped.fluid_damping_rate * damped.outer_step_duration())
+    factor = math.exp(-damped.fluid_phase.damping_rate * damped.outer_step_duration())
     assert 0.0 < factor < 1.0
     assert np.array_equal(damped.fluid.pos, free.fluid.pos)
     assert np.allclose(damped.fluid.vel, factor * free.fluid.vel, rtol=1e-12, atol=0.0)

@@ -34,19 +34,20 @@ def beam():
 def _solve(sim, vel, pressure, movable=None, mirror=None, dt=None, tolerance=1e-12):
     """The new velocity, the new pressure (the old plus the solution's change, which the solve keeps as the next
     warm start) and the solve's counters; rho and the pressure array must come back untouched."""
-    s, nb, wk, prm = sim.solid, sim.solid_solver.neighbours, sim.solid_solver.work, sim.solid_solver.params
+    solver = sim.solid_phase.solver
+    s, nb, wk, prm = sim.solid, solver.neighbours, solver.work, solver.params
     vel, p_in, rho = vel.copy(), pressure.copy(), prm.rho0 + pressure / prm.c0 ** 2
     rho_in = rho.copy()
     movable = s.movable if movable is None else movable
-    mirror = sim.solid_solver.clamp_mirror if mirror is None else mirror
-    dt = sim.last_solid_dt if dt is None else dt
+    mirror = solver.clamp_mirror if mirror is None else mirror
+    dt = sim.solid_phase.last_dt if dt is None else dt
     stats = np.zeros(4, dtype=np.int64)
     scalars = np.zeros((6, s.count))
     state = SolidArrays.of(s)._replace(vel=vel, rho=rho, pressure=p_in, movable=movable)
     work = wk.buffers()._replace(volume=s.mass / rho, pressure_scalars=scalars,
                                  pressure_vectors=np.zeros((2, s.count, 3)), pressure_force=np.zeros((s.count, 3)),
                                  pressure_stats=stats)
-    ip.implicit_pressure_step(dt, state, SolidNeighbours.of(nb, sim.solid_solver.period), prm._replace(
+    ip.implicit_pressure_step(dt, state, SolidNeighbours.of(nb, solver.period), prm._replace(
         pressure_tolerance=tolerance, pressure_max_iterations=500), work, mirror)
     assert np.array_equal(rho, rho_in) and np.array_equal(p_in, pressure)
     return vel, pressure + scalars[0], stats
@@ -57,7 +58,7 @@ def _random_state(sim, seed):
     n = sim.solid.count
     vel = rng.normal(scale=0.1, size=(n, 3))
     pressure = rng.normal(scale=1e4, size=n)
-    for g, m in enumerate(sim.solid_solver.clamp_mirror):      # the ghosts as the stepper leaves them
+    for g, m in enumerate(sim.solid_phase.solver.clamp_mirror):      # the ghosts as the stepper leaves them
         if m >= 0:
             vel[g] = -vel[m]
     pressure[~sim.solid.movable] = 0.0            # the mirrored clamp's particles carry no stress
@@ -65,9 +66,10 @@ def _random_state(sim, seed):
 
 
 def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
-    s, nb, wk, prm = beam.solid, beam.solid_solver.neighbours, beam.solid_solver.work, beam.solid_solver.params
+    solver = beam.solid_phase.solver
+    s, nb, wk, prm = beam.solid, solver.neighbours, solver.work, solver.params
     vel0, p0 = _random_state(beam, 1)
-    dt = beam.last_solid_dt
+    dt = beam.solid_phase.last_dt
     vel, p, stats = _solve(beam, vel0, p0)
     assert 0 < stats[ip.ITERATIONS] < 500 and stats[ip.CAPPED] == 0
     body = s.movable
@@ -80,13 +82,13 @@ def test_the_solution_is_the_backward_euler_step_and_its_impulse(beam):
     # the impulse: pair forces of the new pressure with the step's volumes, ghosts folded onto their images
     force = np.zeros((s.count, 3))
     ip.pressure_forces(p, s.mass / rho0_step, nb.start, nb.index, wk.mls_weights, wk.buf, force)
-    for g, m in enumerate(beam.solid_solver.clamp_mirror):
+    for g, m in enumerate(beam.solid_phase.solver.clamp_mirror):
         if m >= 0:
             force[m] -= force[g]
     change = vel - vel0
     assert np.abs(change[body] - dt * force[body] / s.mass[body, None]).max() < 1e-9 * np.abs(change).max()
-    ghosts = beam.solid_solver.clamp_mirror >= 0
-    assert np.array_equal(vel[ghosts], -vel[beam.solid_solver.clamp_mirror[ghosts]])
+    ghosts = beam.solid_phase.solver.clamp_mirror >= 0
+    assert np.array_equal(vel[ghosts], -vel[beam.solid_phase.solver.clamp_mirror[ghosts]])
     assert np.array_equal(p[ghosts], p0[ghosts])
 
 
@@ -102,8 +104,9 @@ def test_pair_forces_conserve_momentum_on_a_free_body(beam):
 
 
 def test_the_operator_is_symmetric_positive_definite(beam):
-    s, nb, wk, prm = beam.solid, beam.solid_solver.neighbours, beam.solid_solver.work, beam.solid_solver.params
-    n, dt = s.count, 3.0 * beam.last_solid_dt
+    solver = beam.solid_phase.solver
+    s, nb, wk, prm = beam.solid, solver.neighbours, solver.work, solver.params
+    n, dt = s.count, 3.0 * beam.solid_phase.last_dt
     volume = s.mass / s.rho
     inv_k = 1.0 / (prm.c0 ** 2 * s.rho)
     index = np.flatnonzero(s.movable)       # the unknowns: the mirrored clamp's particles carry no stress
@@ -111,12 +114,12 @@ def test_the_operator_is_symmetric_positive_definite(beam):
     x, y, theta = np.zeros(n), np.zeros(n), np.zeros(n)
     force, u = np.zeros((n, 3)), np.zeros((n, 3))
     state = SolidArrays.of(s)
-    lists = SolidNeighbours.of(nb, beam.solid_solver.period)
+    lists = SolidNeighbours.of(nb, solver.period)
     work = wk.buffers()._replace(volume=volume, vector_buf=wk.buf, pressure_force=force)
     for col, i in enumerate(index):
         x[:] = 0.0
         x[i] = 1.0
-        ip._apply(x, state, lists, work, prm.c0 ** 2, beam.solid_solver.clamp_mirror, dt, u, theta, y)
+        ip._apply(x, state, lists, work, prm.c0 ** 2, solver.clamp_mirror, dt, u, theta, y)
         a[:, col] = y[index]
     assert np.abs(a - a.T).max() < 1e-12 * np.abs(a).max()
     # the dynamic part dominates the compliance V / K at this step: not a diagonal matrix in disguise
@@ -127,12 +130,15 @@ def test_the_operator_is_symmetric_positive_definite(beam):
 def test_the_step_is_set_by_the_deviatoric_waves():
     explicit = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", "solid.pressure=explicit"]))
     implicit = Simulation(load_scene("cantilever", BEAM))
-    shear, rho0, cfl, h = implicit.solid_solver.settings.shear_modulus, implicit.spec["solid.density"], implicit.spec["solid.cfl"], implicit.h
+    implicit_solver, explicit_solver = implicit.solid_phase.solver, explicit.solid_phase.solver
+    shear, rho0 = implicit_solver.settings.shear_modulus, implicit.spec["solid.density"]
+    cfl, h = implicit.spec["solid.cfl"], implicit.h
     vmax = np.sqrt((implicit.solid.vel ** 2).sum(axis=1).max())     # the beam starts moving
-    assert implicit.solid_solver.stable_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
-                                                       rel=1e-12)
-    assert explicit.solid_solver.stable_dt() == pytest.approx(cfl * h / (explicit.solid_solver.settings.sound_speed + vmax), rel=1e-12)
-    assert implicit.solid_solver.stable_dt() / explicit.solid_solver.stable_dt() > 5.5      # nu = 0.49
+    assert implicit_solver.stable_dt() == pytest.approx(cfl * h / (math.sqrt(4.0 * shear / (3.0 * rho0)) + vmax),
+                                                        rel=1e-12)
+    assert explicit_solver.stable_dt() == pytest.approx(cfl * h / (explicit_solver.settings.sound_speed + vmax),
+                                                        rel=1e-12)
+    assert implicit_solver.stable_dt() / explicit_solver.stable_dt() > 5.5      # nu = 0.49
 
 
 def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_take():
@@ -141,12 +147,12 @@ def test_a_compressed_beam_rings_down_at_a_step_the_explicit_pressure_cannot_tak
     def run(pressure, chunks, steps):
         sim = Simulation(load_scene("cantilever", ["output.snapshot_interval=0", f"solid.pressure={pressure}",
                                                    "scene.gravity=[0, 0, 0]"]))
-        dt = 4.0 * sim.solid_solver.stable_dt() if pressure == "explicit" else sim.solid_solver.stable_dt()
+        dt = 4.0 * sim.solid_phase.solver.stable_dt() if pressure == "explicit" else sim.solid_phase.solver.stable_dt()
         sim.solid.vel[:] = 0.0
         sim.solid.rho[sim.solid.movable] *= 1.01
         worst = []
         for _ in range(chunks):
-            sim.solid_solver.advance(steps, dt)
+            sim.solid_phase.solver.advance(steps, dt)
             worst.append(float(np.abs(sim.solid.rho[sim.solid.movable] / sim.spec["solid.density"] - 1.0).max()))
             if not worst[-1] < 0.02:
                 break

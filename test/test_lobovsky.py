@@ -17,24 +17,24 @@ def test_the_lifted_gate_moves_at_its_speed_and_stops_clear_of_the_water():
     spec = load_scene("lobovsky_dam_break", COARSE + ["geometry.release=lifted", "output.timeseries_interval=0.01"])
     sim = Simulation(spec)
     walls = sim.walls.count
-    gate0 = sim.fluid_solver.wall_pos[walls:].copy()
+    gate0 = sim.fluid_phase.solver.wall_pos[walls:].copy()
     assert len(gate0) == 3 * 6 * 18                               # 3 layers, 6 across, 0.7 m high
     assert np.allclose(gate0[:, 0].min(), 15 * 0.04 + 0.02)                  # at the column's face
     sim.step()
-    lifted = sim.fluid_solver.wall_pos[walls:] - gate0
+    lifted = sim.fluid_phase.solver.wall_pos[walls:] - gate0
     assert np.allclose(lifted[:, :2], 0.0) and np.allclose(lifted[:, 2], 4.53 * 0.01)   # the last step's end
     travel = lob.lift_travel(spec.values)
     assert travel == pytest.approx(0.6 + 2 * 1.3 * 0.04)
     while sim.time < 0.2 - 1e-12:
         sim.step()
-    assert np.allclose(sim.fluid_solver.wall_pos[walls:, 2] - gate0[:, 2], travel)    # parked, clear of the water
-    assert sim.fluid_solver.wall_pos[walls:, 2].max() < sim.domain_hi[2]               # inside the lists' box
+    assert np.allclose(sim.fluid_phase.solver.wall_pos[walls:, 2] - gate0[:, 2], travel)    # parked, clear of the water
+    assert sim.fluid_phase.solver.wall_pos[walls:, 2].max() < sim.domain_hi[2]               # inside the lists' box
     assert sim.sample()["outside_walls"] == 0
 
 
 def test_the_instant_release_has_no_gate_and_the_front_starts_at_the_gate():
     sim = Simulation(load_scene("lobovsky_dam_break", COARSE + ["geometry.release=instant"]))
-    assert sim.fluid_solver.walls.count == sim.walls.count
+    assert sim.fluid_phase.solver.walls.count == sim.walls.count
     s = sim.sample()
     assert s["front_x"] == 0.0 and s["front_Z"] == 1.0 and s["T"] == 0.0
 

@@ -41,13 +41,13 @@ def test_the_driver_compiled_ahead_is_the_one_the_runs_call(scheme):
     _, scene, overrides = precompile.warm_up_parts(gate)[0].tasks[0]
     signature = precompile.compile_driver(scene, overrides)
     beam = Simulation(load_scene(scene, list(overrides.items())))
-    driver = solid_drivers(beam.solid_solver.params)[0]
+    driver = solid_drivers(beam.solid_phase.solver.params)[0]
     compiled = list(driver.signatures)
     assert signature in compiled
     beam.step()
     coupled = Simulation(gate)
     coupled.step()
-    assert coupled.solid_steps > 0 and solid_drivers(coupled.solid_solver.params)[0] is driver
+    assert coupled.solid_phase.steps > 0 and solid_drivers(coupled.solid_phase.solver.params)[0] is driver
     assert driver.signatures == compiled
 
 

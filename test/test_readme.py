@@ -200,12 +200,39 @@ def check_make_targets(text):
             if t not in phony]
 
 
+def readme_list_keys(text):
+    """The lines of the table of the lists' keys (its header: `| list |`) in the scenes' section."""
+    lines = section(text, "Scenes and keys")
+    start = next((i for i, line in enumerate(lines) if line.startswith("| list |")), None)
+    assert start is not None, "README.md's 'Scenes and keys' has no table of the lists' keys (| list | ...)"
+    block = []
+    for line in lines[start:]:
+        if not line.startswith("|"):
+            break
+        block.append(line)
+    return block
+
+
+def check_list_keys(text):
+    """The table of every part, probe and judge key is the declarations' (geometry/parts.py reference_table)."""
+    from sph_fsi_core.geometry.parts import reference_table
+    listed, known = readme_list_keys(text), reference_table()
+    wrong = [f"row {row!r} is not the declarations' (sph_fsi_core/geometry/parts.py)" for row in listed
+             if row not in known]
+    wrong += [f"row {row!r} of the declarations is not in the README" for row in known if row not in listed]
+    if not wrong and listed != known:
+        wrong.append("the rows are not in the declarations' order")
+    if wrong:
+        wrong.append("the table, as reference_table() makes it:\n" + "\n".join(known))
+    return wrong
+
+
 def check_line_lengths(text):
     return [f"line {i} is {len(line)} characters" for i, line in enumerate(text.splitlines(), 1) if len(line) > 120]
 
 
 CHECKS = [check_commands, check_scenes, check_topics, check_services, check_parameters, check_links,
-          check_make_targets, check_line_lengths]
+          check_make_targets, check_line_lengths, check_list_keys]
 
 
 @pytest.mark.parametrize("check", CHECKS, ids=lambda c: c.__name__)
@@ -234,6 +261,9 @@ PLANTS = [
     (check_parameters, "| `publish_period` | 0.005 |", "| `publish_period` | 0.05 |", "publish_period"),
     (check_links, "(docs/method.md)", "(docs/methods.md)", "methods.md"),
     (check_make_targets, "`make test-fast`", "`make test-faster`", "test-faster"),
+    (check_list_keys, "| `parts` | shape box | `size` (m) required |", "| `parts` | shape box | `sise` (m) required |",
+     "sise"),
+    (check_list_keys, "`lift_velocity` (m/s) = [0, 0, 1]", "`lift_velocity` (m/s) = [0, 0, 2]", "lift_velocity"),
 ]
 
 

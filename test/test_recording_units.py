@@ -21,7 +21,8 @@ class FakeSim:
         self.time = 0.0
         self.spec = SimpleNamespace(name="fake")
         self.spacing = 0.01
-        self.solid_steps = 0
+        self.solid_phase = SimpleNamespace(steps=0, last_dt=1e-6) if solid else None
+        self.fluid_phase = SimpleNamespace(steps=0, last_iterations=3, last_error_max=0.004) if fluid else None
         self.particle_count = n
         self.fluid = SimpleNamespace(pos=rng.random((n, 3)), vel=rng.random((n, 3)),
                                      pressure=rng.random(n) * 1e3 - 100, rho=np.full(n, 1000.0)) if fluid else None
@@ -38,7 +39,8 @@ class FakeSim:
 
     def step(self, dt=0.001):
         self.time += dt
-        self.solid_steps += 1
+        if self.solid_phase is not None:
+            self.solid_phase.steps += 1
         for s in (self.fluid, self.solid):
             if s is not None:
                 s.pos += dt

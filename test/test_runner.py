@@ -241,7 +241,7 @@ def test_progress_in_the_log_and_on_diagnostics(runner, monkeypatch):
     assert first.startswith(f"t = {accumulated(4):.6g} of 0.004 s (25.0 %), ETA ")
     progress = runner.progress.numbers(0.004)
     assert progress["percent"] == pytest.approx(100.0)
-    steps = runner.sim.solid.count * runner.sim.solid_steps
+    steps = runner.sim.solid.count * runner.sim.solid_phase.steps
     assert progress["particle_steps_per_second"] == pytest.approx(steps / runner.progress.stepping_s)
     running = [v for level, message, v in out.diagnostics if message == "running"]
     assert running and all({"progress_percent", "eta_s", "particle_steps_per_second"} <= set(v) for v in running)
@@ -313,3 +313,38 @@ def test_recordings_after_a_reset_are_whole_and_their_rerun_process_ends(tmp_pat
         data, _ = rrd_contents(f)
         assert list(data["/status"].values())[-1]["TextLog:text"][0].startswith("reset at t = "), f
     assert not [line for level, line in log.lines if level == "warning" and "recording" in line], log.lines
+
+
+def test_the_node_reports_water_that_leaves_and_stops_only_at_the_scenes_fraction(tmp_path):
+    """Water with no tank falls out of its domain box. By default the runner goes on and /diagnostics counts the
+    water lost; with watchdog.max_fluid_lost = 0.1 it stops at the step that loses more, as its own outcome: a
+    warning (not an error), status water_lost in the summary, exit status 4 with on_end exit."""
+    from sph_fsi.runner import EXIT_WATER_LOST
+    scene = tmp_path / "falling.yaml"
+    scene.write_text("scene: {builder: geometry, end_time: 0.04}\nnumerics: {spacing: 0.01}\n"
+                     "geometry: {domain_margin: 0.005}\noutput: {timeseries_interval: 0.001, snapshot_interval: 0}\n"
+                     "parts:\n  - {name: water, role: water, shape: box, size: [0.05, 0.05, 0.05], "
+                     "position: [0.025, 0.025, 0.025]}\n")
+    for limit, status, code in ((1.0, "finished", 0), (0.1, "water_lost", EXIT_WATER_LOST)):
+        settings = dict(node_defaults(), publish_period=0.005, on_end="exit", out_dir=str(tmp_path / status))
+        out, log = FakeOut(), Log()
+        r = Runner(load_scene(str(scene), [("watchdog.max_fluid_lost", limit)]), settings, out, log)
+        r.start()
+        try:
+            wait_until(lambda: out.ended_with)
+            assert out.ended_with == [code] and r.status() == (("ok", "finished") if code == 0 else
+                                                               ("warn", "water_lost"))
+            summary = json.loads((tmp_path / status / "summary.json").read_text())
+            assert summary["status"] == status and summary["stable"] and summary["fluid_lost"]["particles"] >= 25
+            level, message, values = out.diagnostics[-1]
+            assert (level, message) == r.status() and int(values["fluid_particles_lost"]) >= 25
+            assert "-z" in values["fluid_lost_faces"] and float(values["fluid_lost_since"]) >= 0.0319
+            if code:
+                assert values["check"] == "left the domain" and "watchdog.max_fluid_lost = 0.1" in values["detail"]
+                assert any(kind == "warning" and msg.startswith("water lost: left the domain")
+                           for kind, msg in log.lines)
+                assert not any(kind == "error" for kind, _ in log.lines)
+                assert not r.request_step()[0] and "call ~/reset" in r.request_step()[1]
+            assert ("warning", summary["warnings"][0]) in log.lines        # the falling water, said at the build
+        finally:
+            r.stop()

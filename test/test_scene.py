@@ -361,10 +361,10 @@ def test_time_step_above_stable_limit_is_refused():
     # sqrt(4 G / 3 rho0), G = E / (2 (1 + nu)))
     sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-6",
                                                "solid.pressure=explicit"]))
-    assert sim.solid_solver.stable_dt() == pytest.approx(0.25 * 1.3e-3 / (176.0208 + 0.01), rel=1e-4)
+    assert sim.solid_phase.solver.stable_dt() == pytest.approx(0.25 * 1.3e-3 / (176.0208 + 0.01), rel=1e-4)
     sim = Simulation(load_scene("cantilever", ["geometry.length=0.004", "solid.time_step=1e-5"]))
     shear_wave = (4.0 / 3.0 * 1.859e6 / (2.0 * 1.49) / 1000.0) ** 0.5
-    assert sim.solid_solver.stable_dt() == pytest.approx(0.25 * 1.3e-3 / (shear_wave + 0.01), rel=1e-4)
+    assert sim.solid_phase.solver.stable_dt() == pytest.approx(0.25 * 1.3e-3 / (shear_wave + 0.01), rel=1e-4)
     # the mirrored clamp's 4 x 4 x 6, less its last layer, beyond the body's reach (scenes/built.py)
     assert sim.solid.count == 4 * 24 + 3 * 24
 

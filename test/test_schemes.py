@@ -148,7 +148,7 @@ def test_every_builtin_scene_with_a_solid_names_its_scheme_and_only_that():
 def test_builders_set_a_scheme_not_its_keys():
     """A builder's DEFAULTS come before the scheme is expanded: a detailed key there would be silently replaced."""
     for name, builder in BUILDERS.items():
-        defaults = getattr(builder, "DEFAULTS", {})
+        defaults = builder.defaults
         assert not set(SCHEME_KEYS) & set(defaults), name
         if "solid.scheme" in defaults:
             assert defaults["solid.scheme"] in SCHEMES, name
@@ -175,18 +175,19 @@ def test_a_new_scheme_through_with_overrides_is_expanded_again_under_the_explici
 def test_the_scheme_is_a_declared_key_that_waits_for_a_reset():
     """Declared like every other key (the node's parameter descriptors come from the same Param): a string with
     its choices, and a rebuild key, since it may change the velocity gradient and the nodal integration."""
-    schema = Schema.for_builder(BUILDERS["cantilever"].PHASES, BUILDERS["cantilever"].GEOMETRY)
+    schema = Schema.for_builder(BUILDERS["cantilever"].phases, BUILDERS["cantilever"].geometry)
     p = schema.params["solid.scheme"]
     assert p.kind == "str" and p.choices == tuple(SCHEMES) and p.rebuild and p.description
     assert p.coerce("gray2001") == "gray2001"
     assert all(name in p.range_text() for name in SCHEMES)
     assert all(name in p.description for name in SCHEMES)
-    assert "solid.scheme" not in Schema.for_builder(BUILDERS["dam_break"].PHASES, BUILDERS["dam_break"].GEOMETRY).params
+    dam_break = BUILDERS["dam_break"]
+    assert "solid.scheme" not in Schema.for_builder(dam_break.phases, dam_break.geometry).params
 
 
 def test_simulation_apply_defers_a_scheme_change_to_the_reset_and_keeps_explicit_keys():
     sim = Simulation(load_scene("cantilever", SMALL_BEAM + [("solid.cfl", 0.3)]))
-    assert sim.solid_solver.params.gradient_order == 2 and sim.solid_solver.params.cell_moment > 0.0
+    assert sim.solid_phase.solver.params.gradient_order == 2 and sim.solid_phase.solver.params.cell_moment > 0.0
     live_spec, deferred = sim.check({"solid.scheme": "gray2001"})
     assert deferred == ["solid.scheme"]
     assert sim.apply({"solid.scheme": "gray2001"}) == ["solid.scheme"]
@@ -194,5 +195,5 @@ def test_simulation_apply_defers_a_scheme_change_to_the_reset_and_keeps_explicit
     sim.reset()
     assert sim.spec["solid.scheme"] == "gray2001"
     assert _scheme_values(sim.spec) == {**DOCUMENTED["gray2001"], "solid.cfl": 0.3}      # cfl was set explicitly
-    assert sim.solid_solver.params.gradient_order != 2 and sim.solid_solver.params.cell_moment == 0.0
+    assert sim.solid_phase.solver.params.gradient_order != 2 and sim.solid_phase.solver.params.cell_moment == 0.0
     assert not sim.warnings, sim.warnings

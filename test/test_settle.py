@@ -30,9 +30,9 @@ def test_a_settled_tank_starts_at_hydrostatic_pressure():
     sim, settled = _floor_pressure_history(0.1, 8)
     assert settled[0] == pytest.approx(1.0, abs=0.10)
     assert np.abs(settled - 1.0).max() < 0.25 and abs(settled[-1] - 1.0) < 0.03
-    assert sim.settled["settle_time_s"] == 0.1 and sim.settled["fluid_steps"] > 0
-    assert sim.settled["capped_steps"] == 0 and sim.settled["density_error_max"] <= 0.01
-    assert sim.settled["residual_max_speed_m_s"] < 0.02        # at rest when the clock starts
+    assert sim.fluid_phase.settled["settle_time_s"] == 0.1 and sim.fluid_phase.settled["fluid_steps"] > 0
+    assert sim.fluid_phase.settled["capped_steps"] == 0 and sim.fluid_phase.settled["density_error_max"] <= 0.01
+    assert sim.fluid_phase.settled["residual_max_speed_m_s"] < 0.02        # at rest when the clock starts
     assert sim.time == pytest.approx(8 * 0.005)
     _, cold = _floor_pressure_history(0.0, 8)
     assert cold[0] == 0.0 and cold[1] < 0.05 and cold.max() > 1.5
@@ -49,7 +49,7 @@ def test_a_dam_break_column_settles_behind_its_gate_and_runs_at_release():
     dp = 0.005715
     assert sim.sample()["front_x"] == pytest.approx(cold.sample()["front_x"], abs=0.25 * dp)
     assert not sim.fluid.vel.any()
-    assert sim.fluid_solver.walls.count == cold.fluid_solver.walls.count     # the gate is not a wall any more
+    assert sim.boundary.count == cold.boundary.count     # the gate is not a wall any more
     while sim.time < 0.04 - 1e-12:
         sim.step()
         assert sim.sample()["outside_walls"] == 0

@@ -14,6 +14,7 @@ and waits until both files are complete.
 import time
 
 from sph_fsi.points import topic_plan
+from sph_fsi_core.run import step_counts
 
 from .frame import Final, capture, capture_static
 from .writer import BackgroundWriter
@@ -56,7 +57,7 @@ class Recorder:
         self._next = float(sim.time)
         self._tol = 1e-6 * (self.interval or 1e-6)
         self._wall0 = time.perf_counter()
-        self._steps0 = getattr(sim, "solid_steps", 0)
+        self._steps0 = step_counts(sim)[0]
         self.writer = BackgroundWriter(sinks, max_queue=max_queue, log=log)
         if sinks:
             self.writer.submit(capture_static(sim))
@@ -86,14 +87,14 @@ class Recorder:
 
     def _diagnostics(self, sim):
         elapsed = time.perf_counter() - self._wall0
-        steps = getattr(sim, "solid_steps", 0)
+        steps = step_counts(sim)[0]
+        solid, water = sim.solid_phase, sim.fluid_phase
         values = {"scene": sim.spec.name, "sim_time": f"{sim.time:.9g}",
                   "steps_per_second": f"{(steps - self._steps0) / elapsed if elapsed > 0 else 0.0:.6g}",
-                  "particles": str(getattr(sim, "particle_count", 0)), "solid_steps": str(steps),
-                  "solid_dt": f"{getattr(sim, 'last_solid_dt', 0.0):.6g}"}
-        for attr, key in (("last_density_iterations", "iterations"), ("last_density_error", "density_error")):
-            if hasattr(sim, attr):
-                values[key] = f"{getattr(sim, attr):.6g}"
+                  "particles": str(sim.particle_count), "solid_steps": str(steps),
+                  "solid_dt": f"{solid.last_dt if solid is not None else 0.0:.6g}"}
+        if water is not None:
+            values.update(iterations=f"{water.last_iterations:.6g}", density_error=f"{water.last_error_max:.6g}")
         return values
 
     def close(self, sim=None, status="finished", detail=None, timeout=None):

@@ -59,7 +59,7 @@ class Frame:
 
 @dataclass
 class Final:
-    """The last /diagnostics of a recording: how the run ended (finished, diverged, interrupted, failed)."""
+    """The last /diagnostics of a recording: how the run ended (finished, diverged, water_lost, interrupted, failed)."""
     time: float
     status: str
     diagnostics: dict

@@ -157,7 +157,7 @@ class McapSink:
             self._fh.close()
 
 
-_LEVEL = {"running": 0, "finished": 0, "interrupted": 1, "diverged": 2, "failed": 2}
+_LEVEL = {"running": 0, "finished": 0, "interrupted": 1, "water_lost": 1, "diverged": 2, "failed": 2}
 
 
 def _diagnostics(header, item):

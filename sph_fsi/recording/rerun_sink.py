@@ -11,7 +11,7 @@ Entities (only what the scene has):
 - `energy/{kinetic,strain}` (solid), `energy/fluid_kinetic` [J]: Scalars.
 - `legend/<phase>/{min,max}` [Pa]: the colour map's range at each frame, and a static `legend` text document
   that says which colour map and quantity each entity uses.
-- `status`: a TextLog line when the run ends (finished, diverged, interrupted, failed).
+- `status`: a TextLog line when the run ends (finished, diverged, water_lost, interrupted, failed).
 Timeline `sim_time`: simulated time in seconds (a duration timeline). `world` is right-handed, z up.
 
 Colour range (in the scene's units, Pa): fixed ranges would need knowing the run's stresses in advance, and a

@@ -45,6 +45,9 @@ def measurement_path(value):
 def read_measurement(value, key):
     """{column: array} of a measurement CSV (SceneError naming `key` if it cannot be read)."""
     path = measurement_path(value)
+    if path.is_dir():
+        raise SceneError(f"{key} = {value!r}: a directory, not a file; allowed: a CSV file relative to the scene "
+                         f"file, or reference_data:<name> of the package's")
     if not path.is_file():
         raise SceneError(f"{key} = {value!r}: not found ({path}); allowed: a CSV file relative to the scene file, or "
                          f"reference_data:<name> of the package's")
@@ -55,6 +58,10 @@ def read_measurement(value, key):
         raise SceneError(f"{key} = {value!r}: fewer than two rows of data; allowed: a header row and the measured "
                          f"rows")
     header = [h.strip() for h in rows[0]]
+    ragged = next((i for i, r in enumerate(rows[1:], 2) if len(r) != len(header)), None)
+    if ragged is not None:
+        raise SceneError(f"{key} = {value!r}: data row {ragged} has {len(rows[ragged - 1])} values, the header "
+                         f"{len(header)}; allowed: a value under every column of the header")
     try:
         data = np.array([[float(x) for x in r] for r in rows[1:]], dtype=np.float64)
     except ValueError as exc:
@@ -66,6 +73,9 @@ def read_measurement(value, key):
 def check_judges(values, columns):
     """SceneError naming a judge whose column is not one the scene writes, or whose file lacks its column."""
     for name, keys in list_entries(values, "judge").items():
+        if 0.0 < keys["to"] <= keys["from"]:
+            raise SceneError(f"judge.{name}.to = {keys['to']:g}: not after judge.{name}.from = {keys['from']:g} s, so "
+                             f"nothing would be judged; allowed: to > from (or 0: the run's end)")
         if keys["column"] not in columns:
             raise SceneError(f"judge.{name}.column = {keys['column']!r}: not a column this scene writes; allowed: one "
                              f"of " + ", ".join(sorted(columns)))

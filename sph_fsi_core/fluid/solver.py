@@ -146,6 +146,12 @@ class FluidSolver:
                 self.f_wall = np.zeros(int(1.25 * self.wall_neighbours.pairs) + 16)
         self.builds += 1
 
+    def refresh_wall_lists(self):
+        """New lists once the water or a wall particle (a moving part's, the solid's in a coupled scene) has moved
+        half the skin since the build; the lists compare wall positions to the bit."""
+        if self.wall_neighbours.is_stale(self.fluid.pos, self.wall_pos):
+            self.rebuild()
+
     def _wall_rows(self):
         """(fluid->wall start, index, wall->fluid start, index); empty rows when the scene has no walls."""
         if self.walls is None:

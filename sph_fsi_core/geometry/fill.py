@@ -6,7 +6,9 @@
                   kernel's reach) or outside it (side: outside, a tank whose inside is the shape; open faces left
                   open)
 
-`layers` 0 takes the fewest that reach the kernel's support, ceil(2h / dp), as every built-in scene's walls do.
+`layers` 0 takes the fewest that reach the kernel's support, ceil(2h / dp), as every built-in scene's walls do. A
+site on a shape's surface belongs to it by geometry/shapes.py's rule (the part beyond it towards +x, +y, +z); the
+water gives up the sites walls, gates and solids overlap (scenes/geometry.py).
 """
 import math
 from dataclasses import dataclass
@@ -15,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..errors import plain
 from ..schema import SceneError
 from .lattice import estimated_shell_sites, filled, inner_shell, outer_shell
 from .meshes import load_mesh
@@ -40,7 +43,7 @@ def shape_of(name, keys):
     if kind == "box":
         size = np.asarray(keys["size"], dtype=np.float64)
         if not (size > 0.0).all():
-            raise SceneError(f"{k}size = {list(keys['size'])}: an edge not positive; allowed: three lengths > 0 m")
+            raise SceneError(f"{k}size = {plain(keys['size'])}: an edge not positive; allowed: three lengths > 0 m")
         dims = size
     elif kind == "cylinder":
         dims = np.array([keys["radius"], keys["length"]], dtype=np.float64)

@@ -12,6 +12,8 @@ import math
 
 import numpy as np
 
+from .shapes import ON_FACE, ON_FACE_STEP
+
 
 class Lattice:
     """Sites at origin + (index + 1/2) dp."""
@@ -83,8 +85,9 @@ def outer_shell(lattice, shape, layers, open_faces=()):
     first, mask = lattice.inside(long, pad=layers + 1)
     shell = dilate(mask, layers) & ~mask
     sites = sites_of(first, shell)
-    if open_faces:
-        sites = sites[~shape.beyond_faces(lattice.positions(sites), open_faces)]
+    if open_faces:     # a site on an open face's plane is past it, by the step that decides a site on a face
+        stepped = lattice.positions(sites) + ON_FACE * lattice.dp * ON_FACE_STEP
+        sites = sites[~shape.beyond_faces(stepped, open_faces)]
     return sites
 
 

@@ -32,22 +32,43 @@ def _p(key, default, unit, description, **kw):
     return Param(key, default, unit, description, **kw)
 
 
-def _shape_params(k, shape):
-    if shape == "box":
-        return [_p(k + "size", REQUIRED, "m", "Edge lengths along the part's own x, y, z axes", kind="vec3")]
-    if shape == "cylinder":
-        return [_p(k + "radius", REQUIRED, "m", "Radius", low=0.0, low_inclusive=False, high=1.0e3),
-                _p(k + "length", REQUIRED, "m", "Length along the part's own z axis", low=0.0, low_inclusive=False,
-                   high=1.0e3)]
-    if shape == "sphere":
-        return [_p(k + "radius", REQUIRED, "m", "Radius", low=0.0, low_inclusive=False, high=1.0e3)]
+def _every_part(k):
+    return [_p(k + "role", REQUIRED, "", "What the part is: 'water' (filled with water), 'wall' (fixed particles), "
+               "'solid' (an elastic body of the solid section's material), 'gate' (a wall gone or lifted at t = 0)",
+               kind="str", choices=ROLES),
+            _p(k + "shape", REQUIRED, "", "Its shape", kind="str", choices=SHAPES),
+            _p(k + "position", (0.0, 0.0, 0.0), "m", "Where the shape's own origin goes (a box's, cylinder's or "
+               "sphere's centre; a mesh's file origin)", kind="vec3"),
+            _p(k + "rotation", (0.0, 0.0, 0.0), "deg", "Rotation about the world's x, then y, then z axis",
+               kind="vec3")]
+
+
+def _box(k):
+    return [_p(k + "size", REQUIRED, "m", "Edge lengths along the part's own x, y, z axes", kind="vec3")]
+
+
+def _cylinder(k):
+    return [_p(k + "radius", REQUIRED, "m", "Radius", low=0.0, low_inclusive=False, high=1.0e3),
+            _p(k + "length", REQUIRED, "m", "Length along the part's own z axis", low=0.0, low_inclusive=False,
+               high=1.0e3)]
+
+
+def _sphere(k):
+    return [_p(k + "radius", REQUIRED, "m", "Radius", low=0.0, low_inclusive=False, high=1.0e3)]
+
+
+def _mesh(k):
     return [_p(k + "file", REQUIRED, "", "Mesh file (STL, OBJ or PLY; a closed surface), relative to the scene "
                "file", kind="str"),
             _p(k + "scale", 1.0, "1", "Factor from the file's units to metres (0.001 for millimetres)", low=0.0,
                low_inclusive=False, high=1.0e6)]
 
 
-def _wall_params(k):
+def _water(k):
+    return [_p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the water", kind="vec3")]
+
+
+def _wall(k):
     return [_p(k + "side", "inside", "", "Where its particle layers go: 'inside' the shape's surface (an obstacle) "
                "or 'outside' it (a tank whose inside is the shape)", kind="str", choices=("inside", "outside")),
             _p(k + "layers", 0, "1", "Particle layers of the wall (0: the fewest that reach 2h)", kind="int", low=0,
@@ -56,86 +77,165 @@ def _wall_params(k):
                "-y, +y, -z, +z of its own axes; a cylinder: -z, +z), space-separated", kind="str")]
 
 
+def _gate(k):
+    return [_p(k + "release", "instant", "", "At t = 0 the gate is gone ('instant') or starts moving at "
+               "lift_velocity ('lifted'); with fluid.settle_time it holds the water while it settles", kind="str",
+               choices=("instant", "lifted")),
+            _p(k + "lift_velocity", (0.0, 0.0, 1.0), "m/s", "The lifted gate's velocity", kind="vec3"),
+            _p(k + "lift_travel", 0.0, "m", "How far the lifted gate moves (0: until its lowest particle is 2h "
+               "above the water's top)", low=0.0, high=1.0e3)]
+
+
+def _solid(k):
+    return [_p(k + "clamp_lo", (0.0, 0.0, 0.0), "m", "Low corner of the clamp box: the body's particles inside it "
+               "are its clamp (clamp_lo = clamp_hi: none, a free body)", kind="vec3"),
+            _p(k + "clamp_hi", (0.0, 0.0, 0.0), "m", "High corner of the clamp box", kind="vec3"),
+            _p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the body", kind="vec3"),
+            _p(k + "mode_tip_velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity in the first bending mode of a "
+               "cantilever (Satake et al. eqs. (12)-(14)) from the clamp face along its normal, the free end moving "
+               "at this velocity (0: none)", kind="vec3")]
+
+
+def _every_probe(k):
+    return [_p(k + "kind", REQUIRED, "", "What it measures: 'point' (displacement and velocity of the solid's "
+               "material point nearest to position), 'pressure' (the water's pressure at a point on a wall), "
+               "'water_height' (the free surface above position's (x, y), over its z), 'force' (the water's force on "
+               "a part)", kind="str", choices=PROBE_KINDS)]
+
+
+def _probe_position(k):
+    return [_p(k + "position", REQUIRED, "m", "Where it measures", kind="vec3")]
+
+
+def _probe_part(k):
+    return [_p(k + "part", REQUIRED, "", "The wall, gate or solid part the water pushes", kind="str")]
+
+
+def _every_judge(k):
+    return [_p(k + "kind", REQUIRED, "", "How a time-series column is judged: 'frequency' (its dominant frequency "
+               "against reference), 'mean' (its mean over [from, to] against reference), 'series' (against a "
+               "measured series in a CSV file)", kind="str", choices=JUDGE_KINDS),
+            _p(k + "column", REQUIRED, "", "The timeseries.csv column judged (a probe's, e.g. 'tip_dz', 'P1', 'H2')",
+               kind="str"),
+            _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
+            _p(k + "from", 0.0, "s", "Judged from this simulated time", low=0.0, high=1.0e3),
+            _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3)]
+
+
+def _judge_reference(k):
+    return [_p(k + "reference", REQUIRED, "", "The reference value (Hz for a frequency; the column's unit for a "
+               "mean)"),
+            _p(k + "tolerance", 0.0, "1", "Relative error allowed (0: reported, not checked)", low=0.0, high=10.0)]
+
+
+def _judge_series(k):
+    return [_p(k + "file", REQUIRED, "", "CSV of the measurement ('#' comment lines, a header row, time in its "
+               "first column), relative to the scene file, or 'reference_data:<name>' for the package's",
+               kind="str"),
+            _p(k + "file_column", REQUIRED, "", "The file's column judged against", kind="str"),
+            _p(k + "scale", 1.0, "1", "Factor on the simulated column before the comparison", low=-1.0e6,
+               high=1.0e6),
+            _p(k + "average", 0.0, "s", "Both series averaged over this centred window first (0: as sampled)",
+               low=0.0, high=10.0),
+            _p(k + "rms_tolerance", 0.0, "", "RMS difference allowed, in the column's unit (0: reported, not "
+               "checked)", low=0.0),
+            _p(k + "threshold", 0.0, "", "With a value: the first time each series reaches it (an impact), and "
+               "each series' peak from then to `to`", ),
+            _p(k + "onset_tolerance", 0.0, "s", "Allowed difference of those first times (0: not checked)",
+               low=0.0, high=10.0),
+            _p(k + "peak_tolerance", 0.0, "1", "Allowed relative difference of the peaks (0: not checked)",
+               low=0.0, high=10.0)]
+
+
+# Which entries have which keys, in the order an entry's keys are declared: (the entries, as the reference names
+# them; the roles and shapes (parts) or kinds (probes, judges) that have them; their declarations).
+PART_GROUPS = (("every part", ROLES, SHAPES, _every_part),
+               ("shape box", ROLES, ("box",), _box),
+               ("shape cylinder", ROLES, ("cylinder",), _cylinder),
+               ("shape sphere", ROLES, ("sphere",), _sphere),
+               ("shape mesh", ROLES, ("mesh",), _mesh),
+               ("role water", ("water",), SHAPES, _water),
+               ("role wall or gate", ("wall", "gate"), SHAPES, _wall),
+               ("role gate", ("gate",), SHAPES, _gate),
+               ("role solid", ("solid",), SHAPES, _solid))
+PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
+                ("kind point, pressure or water_height", ("point", "pressure", "water_height"), _probe_position),
+                ("kind force", ("force",), _probe_part))
+JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
+                ("kind frequency or mean", ("frequency", "mean"), _judge_reference),
+                ("kind series", ("series",), _judge_series))
+
+
 def part_params(name, role, shape):
     """The Params of part `name` with this role and shape."""
     k = f"parts.{name}."
-    out = [_p(k + "role", REQUIRED, "", "What the part is: 'water' (filled with water), 'wall' (fixed particles), "
-              "'solid' (an elastic body of the solid section's material), 'gate' (a wall gone or lifted at t = 0)",
-              kind="str", choices=ROLES),
-           _p(k + "shape", REQUIRED, "", "Its shape", kind="str", choices=SHAPES),
-           _p(k + "position", (0.0, 0.0, 0.0), "m", "Where the shape's own origin goes (a box's, cylinder's or "
-              "sphere's centre; a mesh's file origin)", kind="vec3"),
-           _p(k + "rotation", (0.0, 0.0, 0.0), "deg", "Rotation about the world's x, then y, then z axis",
-              kind="vec3")]
-    out += _shape_params(k, shape)
-    if role == "water":
-        out += [_p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the water", kind="vec3")]
-    elif role in ("wall", "gate"):
-        out += _wall_params(k)
-    if role == "gate":
-        out += [_p(k + "release", "instant", "", "At t = 0 the gate is gone ('instant') or starts moving at "
-                   "lift_velocity ('lifted'); with fluid.settle_time it holds the water while it settles", kind="str",
-                   choices=("instant", "lifted")),
-                _p(k + "lift_velocity", (0.0, 0.0, 1.0), "m/s", "The lifted gate's velocity", kind="vec3"),
-                _p(k + "lift_travel", 0.0, "m", "How far the lifted gate moves (0: until its lowest particle is 2h "
-                   "above the water's top)", low=0.0, high=1.0e3)]
-    if role == "solid":
-        out += [_p(k + "clamp_lo", (0.0, 0.0, 0.0), "m", "Low corner of the clamp box: the body's particles inside it "
-                   "are its clamp (clamp_lo = clamp_hi: none)", kind="vec3"),
-                _p(k + "clamp_hi", (0.0, 0.0, 0.0), "m", "High corner of the clamp box", kind="vec3"),
-                _p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the body", kind="vec3"),
-                _p(k + "mode_tip_velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity in the first bending mode of a "
-                   "cantilever (Satake et al. eqs. (12)-(14)) from the clamp face along its normal, the free end moving "
-                   "at this velocity (0: none)", kind="vec3")]
-    return out
+    return [p for _, roles, shapes, declare in PART_GROUPS if role in roles and shape in shapes for p in declare(k)]
 
 
 def probe_params(name, kind):
     k = f"probes.{name}."
-    out = [_p(k + "kind", REQUIRED, "", "What it measures: 'point' (displacement and velocity of the solid's material "
-              "point nearest to position), 'pressure' (the water's pressure at a point on a wall), 'water_height' "
-              "(the free surface above position's (x, y), over its z), 'force' (the water's force on a part)",
-              kind="str", choices=PROBE_KINDS)]
-    if kind == "force":
-        out += [_p(k + "part", REQUIRED, "", "The wall, gate or solid part the water pushes", kind="str")]
-    else:
-        out += [_p(k + "position", REQUIRED, "m", "Where it measures", kind="vec3")]
-    return out
+    return [p for _, kinds, declare in PROBE_GROUPS if kind in kinds for p in declare(k)]
 
 
 def judge_params(name, kind):
     k = f"judge.{name}."
-    out = [_p(k + "kind", REQUIRED, "", "How a time-series column is judged: 'frequency' (its dominant frequency "
-              "against reference), 'mean' (its mean over [from, to] against reference), 'series' (against a measured "
-              "series in a CSV file)", kind="str", choices=JUDGE_KINDS),
-           _p(k + "column", REQUIRED, "", "The timeseries.csv column judged (a probe's, e.g. 'tip_dz', 'P1', 'H2')",
-              kind="str"),
-           _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
-           _p(k + "from", 0.0, "s", "Judged from this simulated time", low=0.0, high=1.0e3),
-           _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3)]
-    if kind in ("frequency", "mean"):
-        out += [_p(k + "reference", REQUIRED, "", "The reference value (Hz for a frequency; the column's unit for a "
-                   "mean)"),
-                _p(k + "tolerance", 0.0, "1", "Relative error allowed (0: reported, not checked)", low=0.0,
-                   high=10.0)]
-    else:
-        out += [_p(k + "file", REQUIRED, "", "CSV of the measurement ('#' comment lines, a header row, time in its "
-                   "first column), relative to the scene file, or 'reference_data:<name>' for the package's",
-                   kind="str"),
-                _p(k + "file_column", REQUIRED, "", "The file's column judged against", kind="str"),
-                _p(k + "scale", 1.0, "1", "Factor on the simulated column before the comparison", low=-1.0e6,
-                   high=1.0e6),
-                _p(k + "average", 0.0, "s", "Both series averaged over this centred window first (0: as sampled)",
-                   low=0.0, high=10.0),
-                _p(k + "rms_tolerance", 0.0, "", "RMS difference allowed, in the column's unit (0: reported, not "
-                   "checked)", low=0.0),
-                _p(k + "threshold", 0.0, "", "With a value: the first time each series reaches it (an impact), and "
-                   "each series' peak from then to `to`", ),
-                _p(k + "onset_tolerance", 0.0, "s", "Allowed difference of those first times (0: not checked)",
-                   low=0.0, high=10.0),
-                _p(k + "peak_tolerance", 0.0, "1", "Allowed relative difference of the peaks (0: not checked)",
-                   low=0.0, high=10.0)]
+    return [p for _, kinds, declare in JUDGE_GROUPS if kind in kinds for p in declare(k)]
+
+
+def reference():
+    """Every key an entry of each list may have, by role and shape or kind: [(list, which entries, [Param])], the
+    Params' keys `<list>.<name>.<key>` with `<name>` as written. The one source of `sph-fsi keys`' listing,
+    config/defaults.yaml's and the README's table."""
+    out = []
+    for which, groups in (("parts", [(g[0], g[3]) for g in PART_GROUPS]),
+                          ("probes", [(g[0], g[2]) for g in PROBE_GROUPS]),
+                          ("judge", [(g[0], g[2]) for g in JUDGE_GROUPS])):
+        k = f"{which}.<name>."
+        for i, (entries, declare) in enumerate(groups):
+            params = declare(k)
+            if i == 0:
+                params = [_p(k + "name", REQUIRED, "", "Its name, unique in the list: letters, digits and '_', "
+                             f"starting with a letter (its keys are {which}.<name>.<key>)", kind="str")] + params
+            out.append((which, entries, params))
     return out
+
+
+def _shown(value):
+    """A default as the README's table shows it."""
+    if isinstance(value, tuple):
+        return "[" + ", ".join(f"{v:g}" for v in value) + "]"
+    if isinstance(value, str):
+        return f"`{value}`" if value else "''"
+    return f"{value:g}"
+
+
+def reference_table(width=120):
+    """The README's table of the list keys (reference()): a row per list and group of entries, each key with its
+    unit, its default or `required`, and its choices; a group's keys run on in rows of their own (blank first
+    cells) to stay within `width` characters."""
+    lines = ["| list | entries | keys (unit) = default, or required |", "|---|---|---|"]
+    for which, entries, params in reference():
+        cells = []
+        for p in params:
+            text = f"`{p.key.rsplit('.', 1)[1]}`" + (f" ({p.unit})" if p.unit and p.unit != "1" else "")
+            if p.default is REQUIRED:
+                text += " required" + (": " + " / ".join(f"`{c}`" for c in p.choices) if p.choices else "")
+            else:
+                text += f" = {_shown(p.default)}"
+                others = [f"`{c}`" for c in p.choices if c != p.default]
+                text += f" (or {', '.join(others)})" if others else ""
+            cells.append(text)
+        head = f"| `{which}` | {entries} | "
+        row = head
+        for cell in cells:
+            more = cell if row == head else f"; {cell}"
+            if len(row) + len(more) + 2 > width and row != head:
+                lines.append(row + " |")
+                row, more = "| | | ", cell
+                head = row
+            row += more
+        lines.append(row + " |")
+    return lines
 
 
 def list_entries(flat, which):
@@ -174,10 +274,20 @@ def list_params(flat):
     return out
 
 
+# what gives a geometry scene each section its parts may leave it without (schema.Schema.check_key)
+ABSENT_SECTIONS = {"solid": "a part of role solid", "fluid": "a part of role water",
+                   "coupling": "both a solid and a water part"}
+
+
 def phases_of(flat):
     """The phases a scene of these parts has: water -> fluid, wall and gate -> walls, solid -> solid; coupling where
-    there are both a solid and water."""
-    roles = {_choice(flat, f"parts.{name}.role", ROLES) for name in list_entries(flat, "parts")}
+    there are both a solid and water. SceneError if it lists no part (before its sections are checked: they follow
+    from the parts)."""
+    names = list_entries(flat, "parts")
+    if not names:
+        raise SceneError("parts: none; allowed: at least one part (a geometry scene is built from its parts, and its "
+                         "sections follow from their roles: 'fluid' from a water part, 'solid' from a solid part)")
+    roles = {_choice(flat, f"parts.{name}.role", ROLES) for name in names}
     phases = []
     if "solid" in roles:
         phases.append("solid")

@@ -8,6 +8,14 @@ x_world = R x_local + p. `inside(points)` says which world points it holds; `bou
 A mesh's inside is found on the lattice by the parity of its crossings along +z above each site
 (mesh_inside_lattice): exact for a closed mesh at sites off its surface, the cost linear in its triangles times the
 lattice columns each one covers.
+
+A site on a shape's surface (a face on a lattice plane: a box from 0.005 to 0.205 on sites at 0.005, 0.015, ...)
+belongs to the shape when a step from it towards +x, +y, +z enters the shape: a box holds its sites on its low faces
+and not those on its high faces, [lo, hi) along each world axis, so it holds its volume's worth (20 layers for
+0.2 m at 0.01 m), and of two shapes that share a face the site on it belongs to exactly one, the one beyond it
+towards +x, +y, +z, never to both or neither (a water box filling a tank's inside keeps its sites on the tank's
+low faces, the tank's walls take none of them). The step is ON_FACE of a spacing, far below the lattice's
+resolution and far above the rounding of a site's coordinates; a mesh's sites take the same step.
 """
 import math
 from dataclasses import dataclass, field
@@ -16,6 +24,10 @@ import numpy as np
 from numba import njit
 
 SHAPES = ("box", "cylinder", "sphere", "mesh")
+# a site within this fraction of a spacing of a shape's surface is on it: it belongs to the shape if a step of this
+# size towards +x, +y, +z (in these proportions, so that no face of a placed shape lies along the step) enters it
+ON_FACE = 1.0e-6
+ON_FACE_STEP = np.array([1.0, math.sqrt(2.0), math.sqrt(3.0)]) / math.sqrt(6.0)
 
 
 def rotation_matrix(degrees):
@@ -80,7 +92,7 @@ class Shape:
         """Which lattice sites origin + (i, j, k) dp, (i, j, k) < counts, the shape holds: bool (nx, ny, nz)."""
         if self.kind == "mesh":
             return mesh_inside_lattice(self.dims @ self.rotation.T + self.position, origin, dp, counts)
-        axes = [origin[a] + np.arange(counts[a]) * dp for a in range(3)]
+        axes = [origin[a] + np.arange(counts[a]) * dp + ON_FACE * dp * ON_FACE_STEP[a] for a in range(3)]
         points = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
         return self.inside(points).reshape(tuple(int(n) for n in counts))
 
@@ -185,9 +197,9 @@ def mesh_inside_lattice(triangles, origin, dp, counts):
     """Which sites origin + (i, j, k) dp, i < counts[0], j < counts[1], k < counts[2], lie inside a closed triangle
     mesh (T, 3, 3) in world coordinates: an odd number of its crossings above them (bool (nx, ny, nz))."""
     nx, ny, nz = (int(n) for n in counts)
-    scale = float(np.ptp(triangles.reshape(-1, 3), axis=0).max()) or 1.0
-    # irrational fractions of the mesh's size: no lattice or mesh coordinate falls on them
-    shift_x, shift_y = 1.0e-9 * scale * math.sqrt(2.0), 1.0e-9 * scale * math.sqrt(3.0)
+    # the sites stepped towards +x, +y, +z as a primitive's (Shape.inside_lattice): a site on a face belongs to the
+    # mesh if the step enters it, and no column runs through an edge or a vertex the mesh and the lattice share
+    shift_x, shift_y, shift_z = ON_FACE * dp * ON_FACE_STEP
     start = np.zeros(nx * ny + 1, dtype=np.int64)
     tri = np.ascontiguousarray(triangles, dtype=np.float64)
     column_crossings(tri, origin[0], origin[1], dp, nx, ny, shift_x, shift_y, np.zeros(0), start, False)
@@ -195,5 +207,5 @@ def mesh_inside_lattice(triangles, origin, dp, counts):
     heights = np.zeros(start[-1])
     column_crossings(tri, origin[0], origin[1], dp, nx, ny, shift_x, shift_y, heights, start, True)
     inside = np.zeros((nx * ny, nz), dtype=np.bool_)
-    _odd_crossings_above(origin[2], dp, nz, heights, start, inside)
+    _odd_crossings_above(origin[2] + shift_z, dp, nz, heights, start, inside)
     return inside.reshape(nx, ny, nz)

@@ -1,42 +1,88 @@
 """Geometry builders, one module per case. A builder declares the phases it has, its geometry keys, and how a
 run of it is judged; it only makes particles and settings (the time loop is simulation.py's).
 
-Builder module interface:
+A builder module defines, and `Builder` (below) holds, each optional part None where a module has none:
     PHASES        tuple of phase names ('solid', 'fluid', ...)
     GEOMETRY      list of schema.Param under 'geometry.'
-    DEFAULTS      {key: value} overriding schema defaults for this builder
-    CONSERVATIVE  True when nothing feeds energy in (the watchdog then bounds energy growth)
+    DEFAULTS      {key: value} overriding schema defaults for this builder (optional)
+    CONSERVATIVE  True when nothing feeds energy in (the watchdog then bounds energy growth; optional: False)
     check(values)               SceneError for inconsistent values (e.g. spacing larger than the body)
-    particle_counts(values)     {phase: count} of what build() makes, computed without making it (memory guard)
     build(values) -> Built      particles, probes, domain
-    evaluate(series, values)    {measured quantities, reference, error} from the run's time series
-    sample_fluid(sim)           (fluid scenes) extra time-series columns, e.g. a front position or a pressure
+    particle_counts(values)     {phase: count} of what build() makes, computed without making it (memory guard)
+    evaluate(series, values)    {measured quantities, reference, error} from the run's time series (optional)
+    sample(solid, probes, vel)  extra time-series columns of the solid, e.g. the tip's velocity (optional)
+    sample_fluid(sim)           extra time-series columns of the water, e.g. a front position (optional)
 A scene whose phases and keys follow from its file (the geometry builder) also has:
     phases_of(flat)             its phases, from the scene's keys
     list_params(flat)           the Params of its part, probe and judge lists (geometry/parts.py)
     resolve_files(values, path) its files' paths made absolute, relative to the scene file
+    ABSENT_SECTIONS             {section: what in the file would give the scene that section}, for the refusal
 """
+from dataclasses import dataclass
+from typing import Callable
+
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
                dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
+from ..errors import SceneError
 from .built import check_layout, without_unreached_clamp
 
-BUILDERS = {"cantilever": cantilever, "clamped_plate": clamped_plate, "hydrostatic": hydrostatic,
-            "dam_break": dam_break, "elastic_gate": elastic_gate, "antoci_gate": antoci_gate,
-            "hydrostatic_plate": hydrostatic_plate, "antoci_gate_static": antoci_gate_static,
-            "antoci_gate_loaded": antoci_gate_loaded, "cantilever_loaded": cantilever_loaded,
-            "lobovsky_dam_break": lobovsky_dam_break, "geometry": geometry}
+
+@dataclass(frozen=True)
+class Builder:
+    """A builder module's interface (module docstring): what the scene loader, the simulation, the run and the
+    watchdog call, each optional part None (or its stated default) where the module has none."""
+    name: str
+    phases: tuple
+    geometry: list
+    defaults: dict
+    conservative: bool
+    check: Callable
+    build: Callable
+    particle_counts: Callable
+    evaluate: Callable = None
+    sample: Callable = None
+    sample_fluid: Callable = None
+    phases_of: Callable = None
+    list_params: Callable = None
+    resolve_files: Callable = None
+    absent_sections: dict = None
+
+    @classmethod
+    def of(cls, name, module):
+        """The interface of builder module `module`, registered as `name`."""
+        optional = {key: getattr(module, key, None) for key in ("evaluate", "sample", "sample_fluid", "phases_of",
+                                                                "list_params", "resolve_files")}
+        optional["absent_sections"] = getattr(module, "ABSENT_SECTIONS", None)
+        return cls(name, module.PHASES, module.GEOMETRY, getattr(module, "DEFAULTS", {}),
+                   getattr(module, "CONSERVATIVE", False), module.check, module.build, module.particle_counts,
+                   **optional)
+
+
+BUILDERS = {name: Builder.of(name, module) for name, module in (
+    ("cantilever", cantilever), ("clamped_plate", clamped_plate), ("hydrostatic", hydrostatic),
+    ("dam_break", dam_break), ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate),
+    ("hydrostatic_plate", hydrostatic_plate), ("antoci_gate_static", antoci_gate_static),
+    ("antoci_gate_loaded", antoci_gate_loaded), ("cantilever_loaded", cantilever_loaded),
+    ("lobovsky_dam_break", lobovsky_dam_break), ("geometry", geometry))}
 DEFAULT_SCENE = "cantilever"
 
 
 def build_scene(builder, values):
     """A scene's particles as a run starts from them: `builder`'s (a name in BUILDERS) from `values`, checked
-    (built.check_layout: no overlapping bodies, nothing outside the domain), and with solid.clamp = mirrored
-    without the clamp's particles that no moving particle reaches (built.without_unreached_clamp). Returns
-    (Built, how many clamp particles were left out)."""
+    (built.check_layout: no overlapping bodies, nothing outside the domain; with solid.clamp = mirrored, a clamp
+    the builder can mirror the body across), and with solid.clamp = mirrored without the clamp's particles that no
+    moving particle reaches (built.without_unreached_clamp). Returns (Built, how many clamp particles were left
+    out)."""
     built = BUILDERS[builder].build(values)
     check_layout(built, values["numerics.spacing"])
-    if built.solid is None or values["solid.clamp"] != "mirrored" or built.clamp_mirror is None:
+    if built.solid is None or values["solid.clamp"] != "mirrored":
+        return built, 0
+    mirrored = built.clamp_mirror is not None and (built.clamp_mirror >= 0).any()
+    if not mirrored and not built.solid.movable.all():
+        raise SceneError(f"solid.clamp = mirrored: scene builder '{builder}' has no plane clamp face to mirror the "
+                         f"body across; allowed: fixed")
+    if not mirrored:     # free bodies only: no clamp to mirror
         return built, 0
     spacing = values["numerics.spacing"]
     h = values["numerics.smoothing_ratio"] * spacing

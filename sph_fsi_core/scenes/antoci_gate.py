@@ -98,7 +98,7 @@ def load_against_level(series, values, when):
 
 def evaluate(series, values):
     """Free-end x and z displacement against Antoci et al.'s measurements over 0-0.4 s: peaks, their times, RMS.
-    error: RMS(x) over the measured x peak (the issue's goal: <= 10 %; peak within 5 %)."""
+    error: RMS(x) over the measured x peak (the goal: <= 10 %; the peak within 5 %)."""
     out = {"geometry_effective": gate.effective_geometry(values)}
     t = series["time"]
     for comp, col in (("x", "tip_dx"), ("z", "tip_dz")):

@@ -1,6 +1,6 @@
 """Antoci's gate held static under its water: the coupled gate against FE, with nothing moving in the end.
 
-Issue 25's third verification case. Antoci et al. 2007's rubber gate (scenes/antoci_gate.py) with the gap under it
+The third of the gate's verification cases. Antoci et al. 2007's rubber gate (scenes/antoci_gate.py) with the gap under it
 closed (the free end stands on the floor, so no water passes) and gravity reduced to 1 m/s^2, so the water at rest
 pushes the free end about 5 % of the gate's length (3.9 mm against FE; 38 mm at 9.81, far beyond a linear
 reference). Settled, the free end deflects as under the water's hydrostatic pressure rho_f g (H - z) on its wet

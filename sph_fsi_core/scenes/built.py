@@ -34,6 +34,10 @@ class Built:
     # a geometry scene's parts (scenes/geometry.py): {name: (phase, indices into that phase's particles)}, phase
     # 'fluid', 'walls', 'gate' (release_walls) or 'solid'; empty for the built-in scenes
     parts: dict = field(default_factory=dict)
+    # what the build says about the scene: notes for the log (a part that took the water's sites, a free body) and
+    # warnings for the run's (a scene that runs but cannot mean what it says: water that will only fall)
+    notes: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
 
 
 def clamp_mirror_across(pos, movable, axis, face, spacing):
@@ -152,8 +156,8 @@ def check_layout(built, spacing):
     would otherwise start with particles on top of each other, i.e. infinite pressures at t = 0. The check uses the
     same cell lists as the physics, with a cutoff of half a spacing, so it costs one neighbour build.
     """
+    from ..errors import SceneError, plain
     from ..numerics.neighbours import NeighbourList
-    from ..schema import SceneError
     bodies = [(name, state.pos) for name, state in (("solid", built.solid), ("fluid", built.fluid),
                                                     ("wall", built.walls), ("release wall", built.release_walls))
               if state is not None and len(state.pos)]
@@ -164,15 +168,15 @@ def check_layout(built, spacing):
 
     def name_of(k):
         b = int(np.searchsorted(offsets, k, side="right")) - 1
-        return f"{bodies[b][0]} particle {k - offsets[b]} at {np.round(pos[k], 6)} m"
+        return f"{bodies[b][0]} particle {k - offsets[b]} at {plain(pos[k])} m"
 
     periodic = built.period > 0.0
     slack = 0.5 * spacing
     outside = np.flatnonzero(np.any(((pos < built.domain_lo - slack) | (pos > built.domain_hi + slack))
                                     & ~periodic, axis=1))
     if len(outside):
-        raise SceneError(f"{len(outside)} particle(s) outside the scene's domain {built.domain_lo} .. "
-                         f"{built.domain_hi} m, e.g. {name_of(outside[0])}; allowed: bodies inside the domain "
+        raise SceneError(f"{len(outside)} particle(s) outside the scene's domain {plain(built.domain_lo)} .. "
+                         f"{plain(built.domain_hi)} m, e.g. {name_of(outside[0])}; allowed: bodies inside the domain "
                          f"(check the geometry.* keys)")
     close = NeighbourList(0.5 * spacing, 0.0, period=built.period, box_lo=built.domain_lo, box_hi=built.domain_hi,
                           half=True)

@@ -20,7 +20,7 @@ PHASES = ("fluid", "walls")
 CONSERVATIVE = False
 
 COLUMN_WIDTH = 0.05715   # m, Martin & Moyce's a = 2.25 in
-EVALUATE_UP_TO_T = 3.0   # the range; later the surge reaches the far wall of a short tank
+EVALUATE_UP_TO_T = 3.0   # judged up to T = 3; later the surge reaches the far wall of a short tank
 
 GEOMETRY = [
     Param("geometry.column_width", COLUMN_WIDTH, "m", "Column width a along x (Martin & Moyce: 57.15 mm)",

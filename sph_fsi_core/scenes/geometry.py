@@ -11,20 +11,26 @@ closed meshes placed in the world, probes at named places and judges of the time
       - {name: H2, kind: water_height, position: [0.992, 0.0, 0.0]}
 
 Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometry.lattice_origin + (i + 1/2) dp,
-those its shape holds by its role (geometry/fill.py). Parts may not share a site; a solid needs three particle
-layers through for the quadratic fit (the default scheme's). The phases follow from the parts (geometry/parts.py):
-a scene without a solid part has no solid arrays, passes, topics or channels. Probes (probes.py) and judges
-(answers/judges.py) are declared beside the parts; the summary reports each judge's measure and error.
+those its shape holds by its role (geometry/fill.py). Walls, gates and solids take the water's sites where they
+overlap (water poured around an obstacle: _take_from_water) and may not share a site with each other; a solid needs
+three particle layers through for the quadratic fit (the default scheme's). The build's notes (what a part took, a
+free body) and warnings (water outside every tank, a probe that can never read) go to the log and summary.json.
+The phases follow from the parts (geometry/parts.py): a scene without a solid part has no solid arrays, passes,
+topics or channels. Probes (probes.py) and judges (answers/judges.py) are declared beside the parts; the summary
+reports each judge's measure and error.
 """
+import math
+
 import numpy as np
 
 from ..answers.judges import check_judges, evaluate_judges
 from ..answers.references import cantilever_mode_velocity
 from ..geometry.fill import estimated_sites, part_sites, parts_of, resolve_files  # noqa: F401  (builder interface)
-from ..geometry.lattice import Lattice, dilate, site_keys
-from ..geometry.parts import list_entries, list_params, phases_of  # noqa: F401  (builder interface)
-from ..numerics.kernels import lattice_density_scale
+from ..geometry.lattice import Lattice, dilate, filled, site_keys
+from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, phases_of  # noqa: F401  (builder interface)
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from ..probes import ProbeSpec, probe_columns
+from ..errors import plain
 from ..schema import Param, SceneError
 from ..state import FluidState, SolidState, WallState
 from .built import Built, clamp_mirror_across
@@ -72,8 +78,6 @@ def check(values):
     """Everything that can be refused before building: the parts (sizes, meshes, walls, clamps), the probes and
     the judges, each naming its key."""
     parts = parts_of(values)
-    if not parts:
-        raise SceneError("parts: none; allowed: at least one part (a geometry scene is built from its parts)")
     roles = {p.role for p in parts}
     by_name = {p.name: p for p in parts}
     for part in parts:
@@ -82,7 +86,7 @@ def check(values):
         if part.role == "solid":
             lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
             if (lo != hi).any() and not (lo < hi).all():
-                raise SceneError(f"{part.key('clamp_hi')} = {list(hi)}: not above clamp_lo = {list(lo)} on every "
+                raise SceneError(f"{part.key('clamp_hi')} = {plain(hi)}: not above clamp_lo = {plain(lo)} on every "
                                  f"axis; allowed: a box with clamp_lo < clamp_hi (or both equal: no clamp)")
         if part.role == "gate" and part.keys["release"] == "lifted" and not np.any(part.keys["lift_velocity"]):
             raise SceneError(f"{part.key('lift_velocity')} = [0, 0, 0]: a lifted gate must move; allowed: a non-zero "
@@ -141,6 +145,51 @@ def _overlap(names, sites):
     return None
 
 
+def _claimed(part, sites, lattice):
+    """The sites a wall, gate or solid part keeps water out of: its own, and for a body (a solid, or a wall or gate
+    built inside its surface: an obstacle, hollow beyond the kernel's reach) every site inside its surface."""
+    if part.role == "solid" or part.keys["side"] == "outside":
+        return sites
+    return np.concatenate([sites, filled(lattice, part.shape)])
+
+
+def _take_from_water(parts, sites, lattice):
+    """(sites, notes): the parts' sites with those that walls, gates and solids claim (_claimed) taken from the water
+    parts, as DualSPHysics's GenCase lets a later shape take an earlier one's; a note per part that took any. So
+    water poured around an obstacle fills only what is left; the water parts' sites stay in their order. SceneError
+    naming a water part left with none."""
+    water = [i for i, p in enumerate(parts) if p.role == "water"]
+    others = [i for i, p in enumerate(parts) if p.role != "water"]
+    if not water or not others:
+        return sites, []
+    claims = {i: _claimed(parts[i], sites[i], lattice) for i in others}
+    everything = np.concatenate([sites[w] for w in water] + list(claims.values()))
+    lo = everything.min(axis=0)
+    counts = everything.max(axis=0) - lo + 1
+    water_keys = {w: site_keys(sites[w], lo, counts) for w in water}
+    kept = {w: np.ones(len(sites[w]), dtype=bool) for w in water}
+    notes = []
+    for i in others:
+        claimed = site_keys(claims[i], lo, counts)
+        for w in water:
+            hit = np.isin(water_keys[w], claimed)
+            if hit.any():
+                notes.append(f"parts.{parts[i].name} took {int(hit.sum())} of the {len(hit)} lattice sites of "
+                             f"parts.{parts[w].name} (a wall, gate or solid takes the water's sites it overlaps, an "
+                             f"obstacle's or a solid's every site inside its surface)")
+                kept[w] &= ~hit
+    out = list(sites)
+    for w in water:
+        if not kept[w].all():
+            out[w] = sites[w][kept[w]]
+        if not len(out[w]):
+            takers = [f"parts.{parts[i].name}" for i in others
+                      if np.isin(water_keys[w], site_keys(claims[i], lo, counts)).any()]
+            raise SceneError(f"parts.{parts[w].name}: holds no lattice site once {', '.join(takers)} took theirs; "
+                             f"allowed: water that reaches beyond the walls, gates and solids inside it")
+    return out, notes
+
+
 def _clamp(part, pos, values):
     """(movable mask, (axis, face position, side +-1) or None) of a solid part: its particles inside the clamp box
     are its clamp; the clamp face is the box face the body crosses, halfway between the clamp's last layer and the
@@ -150,10 +199,10 @@ def _clamp(part, pos, values):
         return np.ones(len(pos), dtype=bool), None
     clamped = np.all((pos > lo) & (pos < hi), axis=1)
     if not clamped.any():
-        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{list(lo)}, {list(hi)}] holds none of the part's "
+        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{plain(lo)}, {plain(hi)}] holds none of the part's "
                          f"particles; allowed: a box around the part's clamped end")
     if clamped.all():
-        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{list(lo)}, {list(hi)}] holds all of the part's "
+        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{plain(lo)}, {plain(hi)}] holds all of the part's "
                          f"particles; allowed: a box around its clamped end only")
     free = pos[~clamped]
     faces = []
@@ -163,7 +212,7 @@ def _clamp(part, pos, values):
             if beyond.any():
                 faces.append((axis, side))
     if len(faces) != 1:
-        raise SceneError(f"{part.key('clamp_lo')}: the body leaves the clamp box [{list(lo)}, {list(hi)}] through "
+        raise SceneError(f"{part.key('clamp_lo')}: the body leaves the clamp box [{plain(lo)}, {plain(hi)}] through "
                          f"{len(faces)} faces; allowed: one (the clamp face: the box must reach past the body on its "
                          f"other sides)")
     axis, side = faces[0]
@@ -174,8 +223,9 @@ def _clamp(part, pos, values):
     return ~clamped, (axis, face, side)
 
 
-def _solid(parts, sites, lattice, values):
-    """The solid's state, clamp mirror map, {part: indices} and the body's thickness check."""
+def _solid(parts, sites, lattice, values, notes, warnings):
+    """The solid's state, clamp mirror map, {part: indices} and the body's thickness check; a note for each part
+    without a clamp box (a free body), a warning where nothing can hold one up."""
     dp = values["numerics.spacing"]
     positions, movables, mirrors, index = [], [], [], {}
     velocities = []
@@ -183,6 +233,13 @@ def _solid(parts, sites, lattice, values):
     for part, s in zip(parts, sites):
         pos = lattice.positions(s)
         movable, face = _clamp(part, pos, values)
+        if face is None:
+            notes.append(f"parts.{part.name}: no clamp box (clamp_lo = clamp_hi): a free body"
+                         + (" (solid.clamp = mirrored mirrors only the parts with one)"
+                            if values["solid.clamp"] == "mirrored" else ""))
+            warning = _unheld(part, values)
+            if warning:
+                warnings.append(warning)
         if values["solid.velocity_gradient"] == "quadratic":
             grid = np.zeros(tuple(s.max(axis=0) - s.min(axis=0) + 3), dtype=bool)
             grid[tuple((s - s.min(axis=0) + 1).T)] = True
@@ -220,6 +277,21 @@ def _solid(parts, sites, lattice, values):
     return solid, (mirror if (mirror >= 0).any() else None), index
 
 
+def _unheld(part, values):
+    """A warning for a free body under gravity that the water cannot hold up (it is as dense, or there is none):
+    no solid touches a wall (walls act on the water only), so it falls through the walls and out of the domain."""
+    if not np.any(values["scene.gravity"]):
+        return None
+    water = values.get("fluid.density")
+    if water is not None and values["solid.density"] < water:
+        return None
+    return (f"parts.{part.name}: a free body (no clamp_lo, clamp_hi) under scene.gravity "
+            + (f"at least as dense as the water (solid.density = {values['solid.density']:g} kg/m^3)"
+               if water is not None else "with no water to carry it")
+            + ": nothing holds it up (the walls push on the water only, not on a solid), so it falls through them "
+              "and leaves the domain; give it a clamp box, or a density below the water's")
+
+
 def _compress(values, water_sites, wall_sites, lattice):
     """geometry.water_start = compressed: each water part's column compressed as it sits at rest, and the wall
     sites beside it (within the kernel's reach of its footprint, over its height) moved the same way."""
@@ -244,12 +316,13 @@ def build(values):
     lattice = Lattice(dp, values["geometry.lattice_origin"])
     parts = parts_of(values)
     sites = [part_sites(p, lattice, values) for p in parts]
+    sites, notes = _take_from_water(parts, sites, lattice)
     overlap = _overlap([p.name for p in parts], sites)
     if overlap is not None:
         a, b, shared, where, pairs = overlap
         more = f" (and {pairs - 1} more pair(s) of parts)" if pairs > 1 else ""
         raise SceneError(f"parts.{b}: overlaps parts.{a} at {shared} lattice site(s), e.g. "
-                         f"{np.round(lattice.positions(where[None])[0], 6).tolist()} m{more}; allowed: parts that share "
+                         f"{plain(lattice.positions(where[None])[0])} m{more}; allowed: parts that share "
                          f"no site at numerics.spacing = {dp:g} m (move or shrink one)")
     by_role = {role: [(p, s) for p, s in zip(parts, sites) if p.role == role] for role in ("water", "wall", "gate",
                                                                                            "solid")}
@@ -292,12 +365,108 @@ def build(values):
             offset += len(pos)
     if by_role["solid"]:
         built.solid, built.clamp_mirror, solid_index = _solid([p for p, _ in by_role["solid"]],
-                                                              [s for _, s in by_role["solid"]], lattice, values)
+                                                              [s for _, s in by_role["solid"]], lattice, values,
+                                                              notes, built.warnings)
         index.update({name: ("solid", idx) for name, idx in solid_index.items()})
     built.parts = index
+    built.notes = notes
     built.probes = _probes(values, built, index)
     built.domain_lo, built.domain_hi = _domain(values, built)
+    built.warnings += _falling_water(values, built) + _dry_probes(values, built)
     return built
+
+
+def _supports(built):
+    """Every wall, gate and solid particle's position (what holds water up and what a pressure probe sits on)."""
+    held = [s.pos for s in (built.walls, built.release_walls, built.solid) if s is not None]
+    return np.concatenate(held) if held else np.zeros((0, 3))
+
+
+def _falling_water(values, built):
+    """Warnings for water parts with particles under which, along scene.gravity, no wall, gate or solid stands
+    within a spacing of their line: water outside every tank, which will only fall out of the domain."""
+    g = np.asarray(values["scene.gravity"], dtype=np.float64)
+    if built.fluid is None or not g.any():
+        return []
+    dp = values["numerics.spacing"]
+    down = g / np.linalg.norm(g)
+    across = np.linalg.svd(down[None, :])[2][1:]            # two unit vectors normal to the gravity
+    support = _supports(built)
+    out = []
+    for name, (phase, idx) in built.parts.items():
+        if phase != "fluid":
+            continue
+        water = built.fluid.pos[idx]
+        held = np.zeros(len(water), dtype=bool)
+        if len(support):
+            held = _held_up(water, support, down, across, dp)
+        if not held.all():
+            out.append(f"parts.{name}: {int((~held).sum())} of its {len(water)} particles have no wall, gate or solid "
+                       f"below them along scene.gravity (water outside every tank): that water will only fall, and "
+                       f"leave the domain")
+    return out
+
+
+def _held_up(water, support, down, across, dp):
+    """Which water particles have a support particle below them (along `down`) within about a spacing of the line
+    through them: the supports binned on the plane normal to `down` in cells of a spacing, each cell's lowest
+    support, looked up in the water particle's cell and its eight neighbours."""
+    def cells(pos):
+        return np.floor(pos @ across.T / dp).astype(np.int64)
+
+    support_cells, depth = cells(support), support @ down       # depth grows downwards
+    keys = support_cells[:, 0] * (1 << 32) + support_cells[:, 1]
+    order = np.argsort(keys, kind="stable")
+    keys, depth = keys[order], depth[order]
+    unique, first = np.unique(keys, return_index=True)
+    deepest = np.maximum.reduceat(depth, first)
+    water_cells, water_depth = cells(water), water @ down
+    held = np.zeros(len(water), dtype=bool)
+    for di in (-1, 0, 1):
+        for dj in (-1, 0, 1):
+            look = (water_cells[:, 0] + di) * (1 << 32) + water_cells[:, 1] + dj
+            at = np.clip(np.searchsorted(unique, look), 0, len(unique) - 1)
+            held |= (unique[at] == look) & (deepest[at] > water_depth)
+    return held
+
+
+def _dry_probes(values, built):
+    """Warnings for probes that can never read what they say: a pressure probe farther than the kernel's reach (2h)
+    from every wall, gate, solid and water particle (in mid-air, not on a wall), a water-height probe whose vertical
+    line passes within 2h of none, a probe outside the domain box, a point probe farther than 2h from the solid it
+    follows (it follows the nearest moving particle, wherever that is)."""
+    h = values["numerics.smoothing_ratio"] * values["numerics.spacing"]
+    reach = SUPPORT_RADIUS_IN_H * h
+    everything = np.concatenate([_supports(built)] + ([built.fluid.pos] if built.fluid is not None else []))
+    out = []
+    for probe, (name, keys) in zip(built.probes, list_entries(values, "probes").items()):
+        at = np.asarray(keys.get("position", (0.0, 0.0, 0.0)), dtype=np.float64)
+        key = f"probes.{name}.position = {plain(at)}"
+        if keys["kind"] == "point":
+            away = float(np.linalg.norm(probe.reference_position - at))
+            if away > reach:
+                out.append(f"{key}: {away:.3g} m from the nearest moving particle of the solid, farther than 2h = "
+                           f"{reach:.3g} m; it follows that particle, at {plain(probe.reference_position)} m")
+            continue
+        if keys["kind"] not in ("pressure", "water_height"):
+            continue
+        if np.any(at < built.domain_lo) or np.any(at > built.domain_hi):
+            out.append(f"{key}: outside the domain box {plain(built.domain_lo)} .. {plain(built.domain_hi)} m, "
+                       f"where no water ever is: it can never read")
+            continue
+        offset = everything - at
+        if keys["kind"] == "pressure":
+            nearest = float(np.sqrt((offset ** 2).sum(axis=1).min())) if len(offset) else math.inf
+            if nearest > reach:
+                out.append(f"{key}: in mid-air, {nearest:.3g} m from the nearest wall, gate, solid or water particle "
+                           f"(a pressure probe reads the water within 2h = {reach:.3g} m of a point on a wall): it "
+                           f"reads 0 until water passes by")
+        else:
+            beside = np.sqrt(offset[:, 0] ** 2 + offset[:, 1] ** 2) <= reach
+            if not (beside & (offset[:, 2] >= -reach)).any():
+                out.append(f"{key}: no wall, gate, solid or water within 2h = {reach:.3g} m of its vertical line "
+                           f"(a water-height probe reads the water standing on a floor there): it can never read")
+    return out
 
 
 def _lift_travel(built, values):
@@ -341,7 +510,7 @@ def _probes(values, built, index):
                                  reference_position=pos[at].copy()))
         elif kind == "force":
             phase, idx = index[keys["part"]]
-            out.append(ProbeSpec(name, kind, phase=phase, indices=idx))
+            out.append(ProbeSpec(name, kind, phase=phase, indices=idx, part=keys["part"]))
         else:
             out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64)))
     return out

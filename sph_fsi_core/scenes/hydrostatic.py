@@ -114,7 +114,7 @@ def sample_fluid(sim):
     rho0 = v["fluid.density"]
     p_floor, slope = floor_pressure_fit(f.pos, f.pressure, width, depth, sim.h)
     bottom = f.pos[:, 2] < dp
-    dt = sim.last_fluid_dt
+    dt = sim.fluid_phase.last_dt
     area = width * v["geometry.span_layers"] * dp
     load = (float((f.mass * f.correction_displacement[:, 2]).sum()) / (dt * dt * area)) if dt > 0 else 0.0
     inner = (f.pos[:, 0] > 2.0 * sim.h) & (f.pos[:, 0] < width - 2.0 * sim.h)

@@ -33,7 +33,7 @@ PHASES = ("fluid", "walls")
 CONSERVATIVE = False
 
 COLUMN = 0.6            # m, H = L (Lobovsky et al. 2014, the H = 600 mm series)
-JUDGED_FROM_T = 1.0     # the window: T >= 1, the experiment's points at the far wall left out
+JUDGED_FROM_T = 1.0     # judged from T = 1; the experiment's points at the far wall left out
 WALL_POINTS = 3
 SPEED_WINDOW_T = (1.0, 1.6)
 

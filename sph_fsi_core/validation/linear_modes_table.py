@@ -1,6 +1,6 @@
 """The cantilever's first bending frequency from assembled stiffness matrices (validation/linear_modes.py): the
 quadratic fit's plain sum against its own time-stepped runs (the module's cross-check), and total-Lagrangian SPH on
-the same beams against 3D FE (the verification issue's candidate for the default scheme).
+the same beams against 3D FE (a candidate for the default scheme).
 
     python -m sph_fsi_core.validation.linear_modes_table --out docs/validation/linear_modes
 

@@ -252,7 +252,7 @@ def _energy_drift(run_dir):
 def _conservative(scene):
     """Energy drift means something only where nothing feeds energy in (no gravity work, no inflow)."""
     from ..scenes import BUILDERS
-    return bool(getattr(BUILDERS[scene], "CONSERVATIVE", False))
+    return BUILDERS[scene].conservative
 
 
 def _gate_response(run_dir):

@@ -11,14 +11,17 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
+# the keys of the beam that set its reference frequency (answers/references.cantilever_references' arguments)
+BEAM_KEYS = ("geometry.length", "geometry.thickness", "geometry.width", "solid.young_modulus", "solid.poisson_ratio",
+             "solid.density")
+
+
 def cantilever_end_time(overrides, periods):
-    """`periods` periods of the 3D reference frequency of the beam the overrides make (the scene's defaults else)."""
+    """`periods` periods of the 3D reference frequency of the beam the overrides make (the scene's own else)."""
     from ...answers.references import cantilever_references
-    beam = {"geometry.length": 0.04, "geometry.thickness": 0.004, "geometry.width": 0.006,
-            "solid.young_modulus": 1.859e6, "solid.poisson_ratio": 0.49, "solid.density": 1000.0}
-    beam.update({k: v for k, v in overrides.items() if k in beam})
-    refs = cantilever_references(*beam.values())
-    return periods / refs["reference_hz"]
+    from ...scene import load_scene
+    values = load_scene("cantilever", [(k, v) for k, v in overrides.items() if k in BEAM_KEYS]).values
+    return periods / cantilever_references(*(values[k] for k in BEAM_KEYS))["reference_hz"]
 
 
 def rungs():

@@ -5,7 +5,7 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
-# The default scheme's cantilever over shapes and materials (the verification issue's item 4): quadratic_gradient
+# The default scheme's cantilever over shapes and materials: quadratic_gradient
 # with the mirrored clamp at 4 particles through the paper's 4 x 6 mm section (dp = 1 mm), nu = 0.3, 0.4, 0.49 and
 # L / H = 10, 20, 30, each judged against the project's 3D FE for its own shape and nu
 # (reference_data/cantilever_fe3d_nondimensional.csv). The cost grows as (L / H)^3 and with the bulk sound speed

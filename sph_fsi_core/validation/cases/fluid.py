@@ -26,7 +26,7 @@ def rungs():
         rungs.append(Rung("dam_break", f"a_over_dp_{ratio}", "dam_break", {"numerics.spacing": a / ratio},
                           end_time=0.17, quick=quick, bound=0.15,
                           note=f"dp = {a / ratio * 1e3:.3f} mm; front vs Martin & Moyce, RMS over T <= 3"))
-    # Lobovsky et al. 2014's 600 mm column (issue 27) at H / dp = 30, 60, 90: both releases (the gate gone at t = 0,
+    # Lobovsky et al. 2014's 600 mm column at H / dp = 30, 60, 90: both releases (the gate gone at t = 0,
     # or lifted at the measured 4.53 m/s), each from the lattice at zero pressure and settled behind its gate for
     # 0.3 s (fluid.settle_time; about three of the column's breathing periods); RMS of Z over T >= 1.
     height = 0.6
@@ -40,7 +40,7 @@ def rungs():
                                   note=f"dp = {height / ratio * 1e3:.3g} mm, gate {release}, "
                                        f"{'settled 0.3 s' if settle else 'from zero pressure'}; front vs Lobovsky "
                                        f"et al. 2014, RMS over T >= 1"))
-    # the front's speed against the water's compressibility (issue 27: the tolerance measured on the fronts too): the
+    # the front's speed against the water's compressibility (the tolerance measured on the fronts too): the
     # scene's default (lifted, settled) with the density tolerance 0.3 % and 0.1 % instead of 1 %
     for ratio in (30, 60):
         for tolerance, tag in ((0.003, "0.3pct"), (0.001, "0.1pct")):

@@ -18,11 +18,11 @@ PAPER_GATE_LADDER = ((0.004 / 3, "dp1.33mm", 3), (0.002 / 3, "dp0.67mm", 6))
 
 
 def rungs():
-    """The coupled cases (issue 4), both coupling models at two resolutions each.
+    """The coupled cases, both coupling models at two resolutions each.
 
     antoci_gate: Antoci et al. 2007's measured free end over 0-0.4 s at dp = 2.5 mm (2 particles through the 5 mm
     gate) and 5/3 mm (3) with Gray's SPH gradient, and at 5/3 and 1.25 mm (4) with the quadratic fit (the scene's
-    solid since session 3: solid.scheme = quadratic_plain_artificial_stress). elastic_gate: the paper's case to
+    solid as these rungs were run: solid.scheme = quadratic_plain_artificial_stress). elastic_gate: the paper's case to
     t = 0.14 s at 2 mm and at the paper's 1 mm (80k-particle class runs: the 1 mm rungs are the long ones). CI runs
     shorter versions (test/validation/test_gate_quick.py).
     """

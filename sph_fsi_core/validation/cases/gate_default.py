@@ -4,8 +4,7 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE, PAPER_SPAN
 
 
-# Both gates with the default scheme (quadratic_gradient and its mirrored clamp, every scene's since 2026-12; the
-# verification issue's items 5 and 6): the paper's gate at its 1 mm against its figures' window and Gray's run above,
+# Both gates with the default scheme (quadratic_gradient and its mirrored clamp, every scene's): the paper's gate at its 1 mm against its figures' window and Gray's run above,
 # Antoci's on a ladder of 3 / 4 / 5 particles through the gate against the experiment.
 def rungs():
     """As they were run: with the pressure explicit (EXPLICIT_PRESSURE); their twins with the implicit pressure, and
@@ -26,8 +25,8 @@ def rungs():
                        **explicit}, end_time=0.4,
                       note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 5/3 mm, solid.pressure = "
                            "explicit"))
-    # the water settled at rest behind the gate (held straight, a plug in the gap) before t = 0 (fluid.settle_time;
-    # the verification issue's item 7), and the paper's gate with the 0.1 % tolerance as well
+    # the water settled at rest behind the gate (held straight, a plug in the gap) before t = 0 (fluid.settle_time),
+    # and the paper's gate with the 0.1 % tolerance as well
     rungs += [Rung("gate_default", "elastic_gate_settled_dp1mm", "elastic_gate",
                    {"numerics.spacing": 0.001, "fluid.settle_time": 0.1, **explicit, **PAPER_SPAN}, end_time=0.14,
                    note="the paper's gate at 1 mm, the water settled 0.1 s behind it, solid.pressure = explicit"),

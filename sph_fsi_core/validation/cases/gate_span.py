@@ -10,7 +10,7 @@ from ..rung import Rung
 from .gate import PAPER_GATE_LADDER
 
 
-# The paper's gate on the narrowest periodic slab (the scene's span since 2026-12-05: 6 layers) beside the same run
+# The paper's gate on the narrowest periodic slab (the scene's span: 6 layers at 1 mm) beside the same run
 # across the paper's 36 mm (each counterpart's kept run): whether the width of a slab uniform across y moves the answer
 # (the main job's cost: docs/validation/OPEN.md 5). The default scheme and Gray's, at 3, 4 and 6 particles through.
 def rungs():

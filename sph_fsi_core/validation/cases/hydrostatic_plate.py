@@ -99,7 +99,7 @@ def rungs():
                            "geometry.water_start": "compressed"}, end_time=0.6,
                           note=f"the plate's column (0.1 m wide) on a rigid floor at the {layers}-through rung's "
                                f"spacing, built compressed with its walls"))
-    # and the coupled benchmark-shaped plate so (the scene's start since 2026-12-04)
+    # and the coupled benchmark-shaped plate so (the scene's start)
     for layers in (6, 8):
         rungs.append(Rung("hydrostatic_plate", f"scaled_relaxed_compressed_t_over_dp_{layers}", "hydrostatic_plate",
                           {"numerics.spacing": thickness / layers, "solid.young_modulus": HYDROSTATIC_PLATE_SCALED_E,

@@ -22,8 +22,8 @@ def _twin(rung, label=None, **changes):
 
 
 def rungs():
-    """The default scheme's validated runs again with its pressure implicit (solid/implicit_pressure.py, since
-    2026-12-03), each beside its explicit counterpart: how far the step set by the shear waves moves each answer, and
+    """The default scheme's validated runs again with its pressure implicit (solid/implicit_pressure.py), each beside
+    its explicit counterpart: how far the step set by the shear waves moves each answer, and
     what it saves. The gain is sqrt(3 K / 4 G): 6.1x at nu = 0.49, 1.9x at 0.4, 1.3x at 0.3. And the Antoci
     ladder's third rung (1 mm, 5 particles through the gate), affordable with it."""
     by_key = {r.key: r for r in (cantilever_shapes.rungs() + large_deflection.rungs() + solid_static.rungs()
@@ -37,7 +37,7 @@ def rungs():
                "gate_default/elastic_gate_dp1mm", "gate_default/antoci_gate_dp1.67mm",
                "gate_default/antoci_gate_dp1.25mm", "gate_default/antoci_gate_E10MPa_nu0.49_dp1.67mm"])
     rungs = [_twin(by_key[k]) for k in keys]
-    # the band's other edge one rung finer (the verification issue's item 5: each published material on the ladder)
+    # the band's other edge one rung finer (each published material on the ladder)
     rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_E10MPa_nu0.49_dp1.25mm", "antoci_gate",
                       {"numerics.spacing": 0.00125, "solid.young_modulus": 1.0e7, "solid.poisson_ratio": 0.49},
                       end_time=0.4, note="E = 10 MPa, nu = 0.49 (CoCoNuT's plane-strain FE row) at dp = 1.25 mm (4 "
@@ -46,8 +46,7 @@ def rungs():
     rungs.append(Rung("solid_pressure", "gate_default_antoci_gate_dp1mm", "antoci_gate", {"numerics.spacing": 0.001},
                       end_time=0.4, note="dp = 1 mm (5 particles through the gate); free end vs Antoci et al. 2007; "
                                          "the implicit pressure"))
-    # the paper's gate on a ladder with the default scheme (the verification issue's item 6: which of the default's
-    # -7.4 mm and Gray's -8.2 mm at 1 mm is right): 3 and 6 particles through the 4 mm gate beside the 1 mm twin's 4.
+    # the paper's gate on a ladder with the default scheme (which of the default's -7.4 mm and Gray's -8.2 mm at 1 mm is right): 3 and 6 particles through the 4 mm gate beside the 1 mm twin's 4.
     # At 2/3 mm every length of the scene is whole layers as at 1 mm; at 4/3 mm the builder rounds the 2 mm gap under
     # the gate to 2 layers, 2.67 mm (and the water to 37.3 mm high): summary.json's geometry_effective
     for dp, label, through in PAPER_GATE_LADDER:

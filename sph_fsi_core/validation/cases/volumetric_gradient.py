@@ -5,7 +5,7 @@ from .as_run import PAPER_SPAN
 from .cantilever_shapes import CANTILEVER_SHAPE_POISSON
 
 
-# The default scheme with the strain gradient's volumetric part (solid.volumetric_gradient, since 2026-12-05), time
+# The default scheme with the strain gradient's volumetric part (solid.volumetric_gradient), time
 # stepped on the beams and static solids where the assembled answer (validation/linear_modes, docs/validation/
 # linear_modes) predicts it: the cantilever at L/H = 10 -0.230 / -0.316 / -0.080 % at nu = 0.3 / 0.4 / 0.49 (without
 # it -0.79 / -0.77 / -0.87 %), the plate at 4 through +0.93 % (+2.68 %), Antoci's gate under its exact load at 5/3 mm

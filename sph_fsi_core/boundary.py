@@ -1,0 +1,107 @@
+"""The particles the water sees as walls, and who owns which of their rows.
+
+The fluid sums over one array of wall particles (fluid.solver.FluidSolver's walls): a block of rows for each kind of
+part, in this order:
+
+    walls   the scene's fixed walls (its wall parts, in file order), then the rigid holder a mirrored clamp leaves
+            in the water (scenes/built.without_unreached_clamp)
+    gate    the scene's gates while they stand: through the settling phase (fluid.settle_time), and from t = 0 a
+            lifted gate until it has travelled its distance (Built.release_velocity, release_travel)
+    solid   every solid particle of a coupled scene, a moving wall of the water (Satake et al. sec. 2.3), with the
+            mass the coupling gives it (coupling.forces.solid_wall_mass)
+
+`Boundary` hands the rows out by name: a block by its kind, and a geometry scene's part by its own name
+(scenes/built.Built.parts), so the force probes and the coupling find their rows without counting offsets. The
+parts that move write their own rows: `move_parts(t)` (the prescribed motions, motion.py: a lifted gate's) and
+`follow_solid()` (the solid where it is now); `without_gates()` is the boundary from t = 0 when the gates are gone
+at once.
+"""
+import numpy as np
+
+from .motion import Linear
+
+KINDS = ("walls", "gate", "solid")
+
+
+class Boundary:
+    """The water's wall particles: `pos` (M, 3) m and `mass` (M,) kg, in blocks by kind (module docstring), with the
+    rows of each block and of each named part. Construct with `Boundary.of`."""
+
+    def __init__(self, blocks, parts, rho0, motions=(), solid=None):
+        """blocks: [(kind, pos, mass)] in KINDS' order; parts: {name: (kind, indices within that kind's block)};
+        motions: [(rows, positions as built, motion.Motion)] of the parts that move; solid: the state.SolidState
+        whose positions the solid block follows."""
+        self.rho0 = float(rho0)
+        self.pos = np.ascontiguousarray(np.concatenate([p for _, p, _ in blocks])) if blocks else np.zeros((0, 3))
+        self.mass = np.concatenate([m for _, _, m in blocks]) if blocks else np.zeros(0)
+        self._blocks = {}
+        first = 0
+        for kind, pos, _ in blocks:
+            self._blocks[kind] = slice(first, first + len(pos))
+            first += len(pos)
+        self._parts = {name: (kind, np.asarray(indices)) for name, (kind, indices) in parts.items()}
+        self.motions = list(motions)
+        self.solid = solid
+
+    @classmethod
+    def of(cls, built, rho0, gates=False, solid=None, solid_mass=None):
+        """The boundary of a scene as built (scenes/built.Built): its walls, its gates if `gates` (they stand; a
+        lifted one moves from t = 0), and the solid `solid` (state.SolidState, counted with `solid_mass` each) in a
+        coupled scene."""
+        blocks = []
+        if built.walls is not None:
+            blocks.append(("walls", built.walls.pos, built.walls.mass))
+        motions = []
+        if gates and built.release_walls is not None:
+            first = len(built.walls.pos) if built.walls is not None else 0
+            blocks.append(("gate", built.release_walls.pos, built.release_walls.mass))
+            if built.release_velocity is not None:      # a lifted gate
+                motions.append((slice(first, first + len(built.release_walls.pos)), built.release_walls.pos.copy(),
+                                Linear(built.release_velocity, 0.0, built.release_travel)))
+        if solid is not None:
+            blocks.append(("solid", solid.pos, solid_mass))
+        parts = {name: (phase, idx) for name, (phase, idx) in built.parts.items() if phase != "fluid"}
+        return cls(blocks, parts, rho0, motions, solid)
+
+    def without_gates(self):
+        """The same boundary with its gates gone (released at t = 0): new arrays, the other blocks as they are."""
+        blocks = [(kind, self.pos[rows], self.mass[rows]) for kind, rows in self._blocks.items() if kind != "gate"]
+        return Boundary(blocks, self._parts, self.rho0, (), self.solid)
+
+    @property
+    def count(self):
+        return len(self.pos)
+
+    def has(self, kind):
+        """Whether the boundary holds a block of this kind now ('walls', 'gate', 'solid')."""
+        return kind in self._blocks
+
+    def rows(self, kind):
+        """The rows of a block (a slice of pos and mass); KeyError if the boundary has none of that kind."""
+        return self._blocks[kind]
+
+    def part_rows(self, name):
+        """The rows of a scene part by its name (an index array), or None where the part is not among the walls the
+        water sees now (a gate after its release, a part of another phase)."""
+        if name not in self._parts:
+            return None
+        kind, indices = self._parts[name]
+        if kind not in self._blocks:
+            return None
+        return self._blocks[kind].start + indices
+
+    def move_parts(self, t):
+        """The prescribed motions to time t; True if some rows moved. A motion that has reached its end (a lifted
+        gate at its travel) leaves its rows there and is dropped."""
+        for rows, built, motion in self.motions:
+            self.pos[rows] = motion.positions(built, t)
+        moved = bool(self.motions)
+        self.motions = [m for m in self.motions if not (isinstance(m[2], Linear) and m[2].done(t))]
+        return moved
+
+    def follow_solid(self):
+        """The solid block where the solid is now; True if the boundary has one (its rows may have moved)."""
+        if self.solid is None:
+            return False
+        self.pos[self._blocks["solid"]] = self.solid.pos
+        return True
