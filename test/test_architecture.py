@@ -19,7 +19,8 @@ REPO = Path(__file__).resolve().parents[1]
 FLOORS = (
     ("errors",),                                                 # the user's errors
     ("numerics", "state", "diagnostics", "motion"),              # shared numerics, the particle arrays, motions
-    ("solid", "fluid", "coupling", "boundary", "probes", "vtk_snapshots"),   # the phases and what reads them
+    ("solid", "fluid", "boundary", "probes", "vtk_snapshots"),   # the phases and what reads them
+    ("coupling",),                                               # the phases on each other: uses the fluid's passes
     ("schema", "jit_cache"),                                     # every key; the kernels' cache
     ("geometry", "memory_guard", "checkpoint"),                  # shapes on the lattice, guards, checkpoints
     ("answers",),                                                # what a scene's answer is judged against
