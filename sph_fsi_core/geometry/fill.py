@@ -19,9 +19,9 @@ import numpy as np
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
 from ..errors import plain
 from ..schema import SceneError
-from .lattice import estimated_shell_sites, filled, inner_shell, outer_shell
+from .lattice import Lattice, estimated_shell_sites, filled, inner_shell, outer_shell
 from .meshes import load_mesh
-from .parts import list_entries, parse_faces
+from .parts import AXES, list_entries, parse_faces, parse_order
 from .shapes import Shape, rotation_matrix
 
 
@@ -84,6 +84,55 @@ def open_faces(part):
     return parse_faces(part.key("open"), part.keys["open"], part.keys["shape"], part.keys["side"])
 
 
+def part_lattice(part, values):
+    """(the Lattice the part's sites are counted on, their shift (3,) in whole sites on the scene's lattice): the
+    scene's lattice moved by the part's `lattice_offset` (SceneError if that is not whole spacings)."""
+    dp = values["numerics.spacing"]
+    offset = np.asarray(part.keys["lattice_offset"], dtype=np.float64)
+    steps = offset / dp
+    shift = np.round(steps).astype(np.int64)
+    if np.any(np.abs(steps - shift) > 1e-6 * np.maximum(1.0, np.abs(steps))):
+        raise SceneError(f"{part.key('lattice_offset')} = {plain(offset)}: not a whole number of spacings "
+                         f"(numerics.spacing = {dp:g} m); allowed: multiples of the spacing, so that the part "
+                         f"stays on the scene's lattice")
+    return Lattice(dp, np.asarray(values["geometry.lattice_origin"], dtype=np.float64) + offset), shift
+
+
+def periodic_sites(values):
+    """{axis: sites along it} of the scene's periodic axes (geometry.period: whole spacings)."""
+    dp = values["numerics.spacing"]
+    return {a: int(round(p / dp)) for a, p in enumerate(values["geometry.period"]) if p > 0.0}
+
+
+def cut_to_period(sites, values):
+    """The scene-lattice sites (N, 3) inside the periodic slab: 0 <= index < the period's sites along each periodic
+    axis (a part across the slab runs on into its own image, so what lies beyond is its image's)."""
+    keep = np.ones(len(sites), dtype=bool)
+    for axis, n in periodic_sites(values).items():
+        keep &= (sites[:, axis] >= 0) & (sites[:, axis] < n)
+    return sites if keep.all() else sites[keep]
+
+
+def ordered(part, sites):
+    """The part's sites in its `order` (the lattice's own, x slowest then y then z, unless it says otherwise)."""
+    axes, signs = parse_order(part.key("order"), part.keys["order"])
+    if axes == (0, 1, 2) and signs == (1, 1, 1):
+        return sites
+    keys = [sign * sites[:, axis] for axis, sign in zip(axes[::-1], signs[::-1])]    # lexsort: the last key slowest
+    return sites[np.lexsort(keys)]
+
+
+def placed_sites(part, values):
+    """(the part's sites (N, 3) on the scene's lattice, in its order and cut to the periodic slab, the part's own
+    Lattice, its shift): its positions are lattice.positions(sites - shift). SceneError if it holds none."""
+    lattice, shift = part_lattice(part, values)
+    sites = cut_to_period(part_sites(part, lattice, values) + shift, values)
+    if len(sites) == 0:
+        raise SceneError(f"parts.{part.name}: holds no lattice site inside the periodic slab geometry.period = "
+                         f"{plain(values['geometry.period'])} m; allowed: a part that reaches into it")
+    return ordered(part, sites), lattice, shift
+
+
 def part_sites(part, lattice, values):
     """The integer lattice sites the part holds (N, 3) (SceneError if it holds none)."""
     if part.role in ("water", "solid"):
@@ -113,13 +162,43 @@ def _area(part):
     return float(0.5 * np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum())
 
 
+def _box_in_slab(part, values):
+    """(sites along each axis (3,) ints, periodic axes) of an axis-aligned box part, cut to the periodic slab; None
+    for another shape. A site at origin + (i + 1/2) dp belongs to the box on [lo, hi) (a site on a face: the rule of
+    geometry/shapes.py, to a hundredth of a spacing here)."""
+    s = part.shape
+    if s.kind != "box" or not np.allclose(np.abs(s.rotation), np.eye(3)):
+        return None
+    dp = values["numerics.spacing"]
+    lo, hi = s.bounds()
+    origin = np.asarray(values["geometry.lattice_origin"], dtype=np.float64)
+    first = np.ceil((lo - origin) / dp - 0.5 - 0.01)
+    end = np.ceil((hi - origin) / dp - 0.5 - 0.01)
+    periodic = []
+    for axis, p in enumerate(values["geometry.period"]):
+        if p > 0.0:
+            first[axis], end[axis] = max(first[axis], 0.0), min(end[axis], round(p / dp))
+            periodic.append(axis)
+    return np.maximum(end - first, 0).astype(np.int64), periodic
+
+
 def estimated_sites(part, values):
     """About how many sites the part holds, from its volume or its surface (the memory guard's count, made before
-    anything is built)."""
+    anything is built); an axis-aligned box's volume counted site by site, within the periodic slab, with no walls
+    across a periodic axis."""
     dp = values["numerics.spacing"]
+    box = _box_in_slab(part, values)
     if part.role in ("water", "solid"):
-        return int(math.ceil(part.shape.volume() / dp ** 3))
+        return int(np.prod(box[0])) if box is not None else int(math.ceil(part.shape.volume() / dp ** 3))
     layers = wall_layers(part, values)
+    if box is not None and part.keys["side"] == "outside" and any(p > 0.0 for p in values["geometry.period"]):
+        sites, periodic = box
+        opened = [AXES.index(f[1]) for f in open_faces(part)]
+        grown = sites.copy()
+        for axis in range(3):
+            if axis not in periodic:
+                grown[axis] += layers * (2 - opened.count(axis))
+        return int(np.prod(grown) - np.prod(sites))
     area = _area(part)
     if part.keys["side"] == "outside":     # the shell's outer surface is larger than the shape's
         grow = layers * dp

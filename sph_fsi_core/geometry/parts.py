@@ -23,7 +23,8 @@ NAME_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 ROLES = ("water", "wall", "solid", "gate")
 SHAPES = ("box", "cylinder", "sphere", "mesh")
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
-PROBE_KINDS = ("point", "pressure", "water_height", "force")
+PROBE_KINDS = ("point", "displacement", "pressure", "water_height", "force")
+AXES = ("x", "y", "z")
 JUDGE_KINDS = ("frequency", "mean", "series")
 REQUIRED = None    # a Param default meaning "must be given"
 
@@ -40,7 +41,13 @@ def _every_part(k):
             _p(k + "position", (0.0, 0.0, 0.0), "m", "Where the shape's own origin goes (a box's, cylinder's or "
                "sphere's centre; a mesh's file origin)", kind="vec3"),
             _p(k + "rotation", (0.0, 0.0, 0.0), "deg", "Rotation about the world's x, then y, then z axis",
-               kind="vec3")]
+               kind="vec3"),
+            _p(k + "order", "x y z", "", "The order its particles are numbered in: the world's axes from the slowest "
+               "to the fastest, '-' for descending (a clamp behind a beam's root at x = 0: '-x y z', outward from "
+               "its face)", kind="str"),
+            _p(k + "lattice_offset", (0.0, 0.0, 0.0), "m", "Its sites counted from geometry.lattice_origin plus this "
+               "(whole spacings: the same lattice): at origin + offset + (i + 1/2) dp, which can differ from origin + "
+               "(i + 1/2) dp in the last bit; a block of sites counted from its own corner", kind="vec3")]
 
 
 def _box(k):
@@ -93,18 +100,26 @@ def _solid(k):
             _p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the body", kind="vec3"),
             _p(k + "mode_tip_velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity in the first bending mode of a "
                "cantilever (Satake et al. eqs. (12)-(14)) from the clamp face along its normal, the free end moving "
-               "at this velocity (0: none)", kind="vec3")]
+               "at this velocity (0: none)", kind="vec3"),
+            _p(k + "mode_length", 0.0, "m", "The length the mode's shape is scaled to (0: from the clamp face to "
+               "the free end's particles plus half a spacing)", low=0.0, high=1.0e3)]
 
 
 def _every_probe(k):
     return [_p(k + "kind", REQUIRED, "", "What it measures: 'point' (displacement and velocity of the solid's "
-               "material point nearest to position), 'pressure' (the water's pressure at a point on a wall), "
+               "material point nearest to position), 'displacement' (the mean displacement of the solid's moving "
+               "particles inside a box), 'pressure' (the water's pressure at a point on a wall), "
                "'water_height' (the free surface above position's (x, y), over its z), 'force' (the water's force on "
                "a part)", kind="str", choices=PROBE_KINDS)]
 
 
 def _probe_position(k):
     return [_p(k + "position", REQUIRED, "m", "Where it measures", kind="vec3")]
+
+
+def _probe_box(k):
+    return [_p(k + "size", REQUIRED, "m", "Edge lengths of the box, centred on position, whose moving solid particles "
+               "it follows (a beam's free end: one spacing along the beam, the body's width across)", kind="vec3")]
 
 
 def _probe_part(k):
@@ -159,7 +174,9 @@ PART_GROUPS = (("every part", ROLES, SHAPES, _every_part),
                ("role gate", ("gate",), SHAPES, _gate),
                ("role solid", ("solid",), SHAPES, _solid))
 PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
-                ("kind point, pressure or water_height", ("point", "pressure", "water_height"), _probe_position),
+                ("kind point, displacement, pressure or water_height", ("point", "displacement", "pressure",
+                                                                        "water_height"), _probe_position),
+                ("kind displacement", ("displacement",), _probe_box),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
                 ("kind frequency or mean", ("frequency", "mean"), _judge_reference),
@@ -308,6 +325,16 @@ def check_required(values):
                                                              "probes": "every probe of its kind needs it",
                                                              "judge": "every judge of its kind needs it"}[
                                                                  key.split(".", 1)[0]])
+
+
+def parse_order(key, text):
+    """(axes, signs) of a part's `order` ('-x y z' -> ((0, 1, 2), (-1, 1, 1))), SceneError naming the key."""
+    words = text.split()
+    axes = [AXES.index(w.lstrip("+-")) if w.lstrip("+-") in AXES else -1 for w in words]
+    if len(words) != 3 or sorted(axes) != [0, 1, 2]:
+        raise SceneError(f"{key} = {text!r}: not an order of the axes; allowed: x, y and z once each, slowest first, "
+                         f"each with '-' for descending (e.g. '-x y z')")
+    return tuple(axes), tuple(-1 if w.startswith("-") else 1 for w in words)
 
 
 def parse_faces(key, text, shape, side):

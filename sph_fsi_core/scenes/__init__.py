@@ -17,14 +17,19 @@ A scene whose phases and keys follow from its file (the geometry builder) also h
     list_params(flat)           the Params of its part, probe and judge lists (geometry/parts.py)
     resolve_files(values, path) its files' paths made absolute, relative to the scene file
     ABSENT_SECTIONS             {section: what in the file would give the scene that section}, for the refusal
+    EXPRESSIONS                 True: its file declares parameters, and its lists' and own keys' numbers may be
+                                expressions in them (geometry/declared.py, geometry/expressions.py)
+and names a case module (scenes/cases: `scene.case`) with what its file cannot say; `interface(builder, values)` is
+the one a scene runs with, the case's hooks in it.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
                dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
 from ..errors import SceneError
+from ..geometry.parts import list_entries
 from .built import check_layout, without_unreached_clamp
 
 
@@ -47,6 +52,7 @@ class Builder:
     list_params: Callable = None
     resolve_files: Callable = None
     absent_sections: dict = None
+    expressions: bool = False
 
     @classmethod
     def of(cls, name, module):
@@ -54,6 +60,7 @@ class Builder:
         optional = {key: getattr(module, key, None) for key in ("evaluate", "sample", "sample_fluid", "phases_of",
                                                                 "list_params", "resolve_files")}
         optional["absent_sections"] = getattr(module, "ABSENT_SECTIONS", None)
+        optional["expressions"] = getattr(module, "EXPRESSIONS", False)
         return cls(name, module.PHASES, module.GEOMETRY, getattr(module, "DEFAULTS", {}),
                    getattr(module, "CONSERVATIVE", False), module.check, module.build, module.particle_counts,
                    **optional)
@@ -66,6 +73,27 @@ BUILDERS = {name: Builder.of(name, module) for name, module in (
     ("antoci_gate_loaded", antoci_gate_loaded), ("cantilever_loaded", cantilever_loaded),
     ("lobovsky_dam_break", lobovsky_dam_break), ("geometry", geometry))}
 DEFAULT_SCENE = "cantilever"
+
+
+def interface(builder, values):
+    """The Builder a scene of `builder` (a name in BUILDERS) with these values runs with: a geometry scene's with its
+    case module's columns and evaluation (scenes/cases) and conservative when nothing feeds energy in (no water, no
+    gravity, no prescribed load: the watchdog then bounds the energy's growth)."""
+    record = BUILDERS[builder]
+    if builder != "geometry":
+        return record
+    case = geometry.case_of(values)
+    conservative = ("fluid.density" not in values and not any(values["scene.gravity"])
+                    and (case is None or case.load is None))
+    if case is None:
+        return replace(record, conservative=conservative)
+
+    def evaluate(series, values):
+        judged = geometry.evaluate(series, values) if list_entries(values, "judge") else {}
+        return {**judged, **case.evaluate(series, values)} if case.evaluate is not None else judged
+
+    return replace(record, conservative=conservative, sample=case.sample, sample_fluid=case.sample_fluid,
+                   evaluate=evaluate)
 
 
 def build_scene(builder, values):

@@ -77,7 +77,9 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
     68.5 mm of clamp (41 layers at 5/3 mm, 3 within the body's reach): 44 % of its solid particles. Those left out
     become wall particles where they were built (the rigid holder they stand for, as the water saw them before),
     with the mass the coupling gives a solid particle as the water's wall (coupling.solid_wall_mass); in a scene
-    without water they are gone. Particles a probe or a part follows stay. `reach`: the kernel's support 2h plus one
+    without water they are gone. Particles a probe follows stay, and every particle of a geometry scene's part that
+    has moving ones (a part's own clamp stays whole; a holder part's, all clamp, is left out as a built-in clamp's
+    is). `reach`: the kernel's support 2h plus one
     spacing of margin for the root's strain (at the face the body's first layer is dp / 2 from it, a ghost d from
     it: reached while d + dp / 2 < 2h).
 
@@ -102,7 +104,7 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
     for probe in built.probes:
         keep[_solid_indices(probe)] = True
     for phase, indices in built.parts.values():
-        if phase == "solid":
+        if phase == "solid" and solid.movable[indices].any():    # a holder part (all clamp) is the clamp's holder
             keep[indices] = True
     dropped = int(solid.count - keep.sum())
     if not dropped:
@@ -125,9 +127,14 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
             pos=np.concatenate([built.walls.pos, holder.pos]), mass=np.concatenate([built.walls.mass, holder.mass]),
             rho0=built.walls.rho0)
     changes["probes"] = [_renumbered(p, new_index) for p in built.probes]
-    changes["parts"] = {name: (phase, new_index[idx] if phase == "solid" else idx)
+    changes["parts"] = {name: (phase, _kept(new_index[idx]) if phase == "solid" else idx)
                         for name, (phase, idx) in built.parts.items()}
     return replace(built, **changes), dropped
+
+
+def _kept(indices):
+    """A part's solid indices after some were left out: the new index of each kept one."""
+    return indices[indices >= 0]
 
 
 def _solid_indices(probe):

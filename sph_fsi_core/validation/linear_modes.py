@@ -312,8 +312,8 @@ def _built(scene, overrides, clamp):
     """(values, built) of a scene with solid.clamp = `clamp`."""
     from ..scene import load_scene
     from ..scenes import BUILDERS
-    values = load_scene(scene, [f"solid.clamp={clamp}", *overrides]).values
-    return values, BUILDERS[scene].build(values)
+    spec = load_scene(scene, [f"solid.clamp={clamp}", *overrides])
+    return spec.values, BUILDERS[spec.builder].build(spec.values)
 
 
 def _built_stiffness(values, built, clamp, **kw):
