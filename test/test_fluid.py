@@ -180,9 +180,9 @@ def test_water_that_splashes_out_is_held_still_and_counted():
     held = sim.fluid.pos[17].copy()
     assert held[2] == sim.domain_hi[2] and np.all(sim.fluid.vel[17] == 0.0)
     assert "water began to leave the domain box" in sim.warnings[-1] and "1 particle(s) over its +z face (e.g. " \
-        "fluid particle 17)" in sim.warnings[-1]
+        "fluid particle 17, nearest parts.tank)" in sim.warnings[-1]
     assert sim.fluid_phase.lost_water.summary() == {"particles": 1, "fraction": 1 / n, "first_time_s": sim.time,
-                                        "faces": {"+z": 1}}
+                                                    "faces": {"+z": 1}, "nearest_walls": {"tank": 1}}
     for _ in range(3):
         sim.step()
     assert np.array_equal(sim.fluid.pos[17], held) and np.all(sim.fluid.vel[17] == 0.0)
@@ -267,21 +267,19 @@ def test_the_tank_relaxes_its_water_only_when_asked():
     """geometry.water_damping_ratio (default 0: the tank's water is left alone) relaxes the water's velocities at
     2 zeta omega_b, omega_b of the column's breathing mode (tank.breathing_period: 4 H / sqrt(g H / tolerance)), as
     hydrostatic_plate does: the same column on a rigid floor."""
-    from sph_fsi_core.scenes import hydrostatic
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005"])
-    assert hydrostatic.build(spec.values).fluid_damping_rate == 0.0
+    assert spec.build()[0].fluid_damping_rate == 0.0
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_damping_ratio=0.5"])
     period = 4 * 0.1 / math.sqrt(9.81 * 0.1 / 0.01)
-    assert hydrostatic.build(spec.values).fluid_damping_rate == pytest.approx(2.0 * 0.5 * 2.0 * math.pi / period)
+    assert spec.build()[0].fluid_damping_rate == pytest.approx(2.0 * 0.5 * 2.0 * math.pi / period)
 
 
 def test_the_tank_builds_its_water_compressed_with_its_end_walls_in_register():
     """geometry.water_start = compressed: the water's layers at depth d spaced dp (1 - c d / H), c the tolerance;
     the end walls' layers at the water's heights (in register), the floor and the water's mass as on the lattice."""
-    from sph_fsi_core.scenes import hydrostatic
-    flat = hydrostatic.build(load_scene("hydrostatic", ["numerics.spacing=0.005"]).values)
+    flat = load_scene("hydrostatic", ["numerics.spacing=0.005"]).build()[0]
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_start=compressed"])
-    b = hydrostatic.build(spec.values)
+    b = spec.build()[0]
     dp, height, tol = 0.005, spec["geometry.depth"], spec["fluid.density_tolerance"]
     z0 = np.unique(flat.fluid.pos[:, 2])
     z = np.unique(np.round(b.fluid.pos[:, 2], 12))

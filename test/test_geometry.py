@@ -66,7 +66,7 @@ def test_a_mesh_holds_the_sites_its_primitive_holds():
 def test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever():
     box = geometry.build(load_scene(str(EXAMPLES / "cantilever_geometry.yaml")).values)
     stl = geometry.build(load_scene(str(EXAMPLES / "cantilever_stl.yaml")).values)
-    ref = BUILDERS["cantilever"].build(load_scene("cantilever").values)
+    ref = geometry.build(load_scene("cantilever").values)
     assert box.solid.count == stl.solid.count == ref.solid.count == 1056
     assert np.array_equal(box.solid.pos, stl.solid.pos) and np.array_equal(box.solid.vel, stl.solid.vel)
     at = {k: i for i, k in enumerate(map(tuple, np.round(box.solid.pos / 5e-4).astype(np.int64)))}
@@ -80,7 +80,7 @@ def test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever():
 
 def test_the_hydrostatic_tank_from_two_boxes_is_the_built_in_tank():
     built = geometry.build(load_scene(str(EXAMPLES / "hydrostatic_geometry.yaml")).values)
-    ref = BUILDERS["hydrostatic"].build(load_scene("hydrostatic", ["geometry.periodic_y=false"]).values)
+    ref = geometry.build(load_scene("hydrostatic", ["geometry.periodic_y=false"]).values)
     for a, b in ((built.fluid, ref.fluid), (built.walls, ref.walls)):
         assert np.array_equal(a.pos, b.pos) and np.array_equal(a.mass, b.mass)
     assert built.solid is None and built.parts["tank"][0] == "walls"
@@ -373,7 +373,7 @@ def test_the_cantilever_from_an_stl_moves_as_the_built_in_cantilever():
 def test_the_hydrostatic_tank_from_two_boxes_holds_the_built_in_tanks_floor_pressure():
     """0.6 s at 5 mm (the validation ladder's CI rung's spacing and time): the floor pressure (the built-in scene's
     line fit of p(z), over the last 30 %) of the geometry tank within 0.1 % of the built-in closed tank's."""
-    from sph_fsi_core.scenes.hydrostatic import floor_pressure_fit
+    from sph_fsi_core.scenes.cases.hydrostatic import floor_pressure_fit
     from sph_fsi_core.simulation import Simulation
     common = ["numerics.spacing=0.005", "output.snapshot_interval=0"]
 
@@ -545,3 +545,20 @@ def test_a_body_too_thin_for_the_quadratic_fit_runs_on_the_linear_one(tmp_path):
     plate = {"name": "plate", "role": "solid", "shape": "box", "size": [0.02, 0.1, 0.1], "position": [0.2, 0.05, 0.05]}
     sim = Simulation(load_scene(scene_file(tmp_path, with_part(plate)), ["output.snapshot_interval=0"]))
     assert any("have fewer than three particle layers" in w and "linear fit" in w for w in sim.warnings)
+
+
+def test_the_tank_scene_files_build_the_tanks_lattice():
+    """config/hydrostatic.yaml and dam_break.yaml (the built-in builders' particles, site for site: the bits
+    harness checks the runs): the periodic tank's walls are the slab's floor and end walls in lattice order, the
+    dam break's gate is counted from the column's face, column + (i + 1/2) dp, to the bit."""
+    spec = load_scene("hydrostatic", ["numerics.spacing=0.005"])
+    built = geometry.build(spec.values)
+    dp = 0.005
+    assert np.array_equal(built.walls.pos, tank_walls(10, 6, 24, 3, dp, periodic_y=True))
+    assert np.array_equal(built.fluid.pos[:, 0], (np.repeat(np.arange(10), 6 * 20) + 0.5) * dp)
+    assert np.array_equal(built.period, [0.0, 6 * dp, 0.0]) and built.domain_lo[1] == 0.0
+    spec = load_scene("dam_break")
+    built = geometry.build(spec.values)
+    dp, column = spec["numerics.spacing"], 20 * spec["numerics.spacing"]
+    gate = built.release_walls.pos
+    assert len(gate) == 3 * 6 * 53 and np.array_equal(gate[:, 0], column + (np.repeat(np.arange(3), 6 * 53) + 0.5) * dp)

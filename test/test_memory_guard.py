@@ -101,11 +101,12 @@ def test_scene_file_errors_name_the_file(tmp_path):
         load_scene(str(binary))
     assert str(info.value).startswith(f"scene file {str(binary)!r}: not UTF-8 text") and "allowed" in str(info.value)
     bad_value = tmp_path / "bad_value.yaml"
-    bad_value.write_text("scene:\n  builder: cantilever\nsolid:\n  young_modulus: -3\n")
+    block = "parts:\n  - {name: block, role: solid, shape: box, size: [0.01, 0.004, 0.004]}\n"
+    bad_value.write_text("scene:\n  builder: geometry\nsolid:\n  young_modulus: -3\n" + block)
     with pytest.raises(SceneError, match=f"^{bad_value}: solid.young_modulus = -3: out of range"):
         load_scene(str(bad_value))
     not_a_section = tmp_path / "not_a_section.yaml"
-    not_a_section.write_text("scene:\n  builder: cantilever\nsolid: 3\n")
+    not_a_section.write_text("scene:\n  builder: geometry\nsolid: 3\n" + block)
     with pytest.raises(SceneError, match=f"^{not_a_section}: solid: expected a mapping"):
         load_scene(str(not_a_section))
     # an override's error is the override's: it names the key, not the file

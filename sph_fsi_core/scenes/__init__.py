@@ -26,8 +26,8 @@ from dataclasses import dataclass, replace
 from typing import Callable
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
-from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
-               dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
+from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, clamped_plate, elastic_gate, geometry,
+               hydrostatic_plate)
 from ..errors import SceneError
 from ..geometry.parts import list_entries
 from .built import check_layout, without_unreached_clamp
@@ -67,11 +67,9 @@ class Builder:
 
 
 BUILDERS = {name: Builder.of(name, module) for name, module in (
-    ("cantilever", cantilever), ("clamped_plate", clamped_plate), ("hydrostatic", hydrostatic),
-    ("dam_break", dam_break), ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate),
+    ("clamped_plate", clamped_plate), ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate),
     ("hydrostatic_plate", hydrostatic_plate), ("antoci_gate_static", antoci_gate_static),
-    ("antoci_gate_loaded", antoci_gate_loaded), ("cantilever_loaded", cantilever_loaded),
-    ("lobovsky_dam_break", lobovsky_dam_break), ("geometry", geometry))}
+    ("antoci_gate_loaded", antoci_gate_loaded), ("geometry", geometry))}
 DEFAULT_SCENE = "cantilever"
 
 

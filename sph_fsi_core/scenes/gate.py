@@ -99,7 +99,7 @@ QUADRATIC_FIT_LAYERS = 3
 
 
 def check(values):
-    from .hydrostatic import check_walls_and_span
+    from .cases.hydrostatic import check_walls_and_span
     c = layer_counts(values)
     check_walls_and_span({**values, "geometry.periodic_y": True, "geometry.span_layers": c["ny"]})
     if c["nw"] < c["nh"]:

@@ -84,7 +84,7 @@ def layer_counts(values):
 
 
 def check(values):
-    from .hydrostatic import check_walls_and_span
+    from .cases.hydrostatic import check_walls_and_span
     c = layer_counts(values)
     check_walls_and_span({**values, "geometry.periodic_y": True, "geometry.span_layers": c["ny"]})
     if values["geometry.wall_height"] < values["geometry.water_height"]:

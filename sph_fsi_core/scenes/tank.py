@@ -9,7 +9,6 @@ import math
 
 import numpy as np
 
-from ..numerics.kernels import lattice_density_scale
 from ..schema import SceneError
 
 
@@ -133,26 +132,6 @@ def check_column_in_tank(values, gate_layers=0):
                          f"at least geometry.column_height")
 
 
-def column_in_tank_counts(values, nx, nz, ntank):
-    """column_in_tank's particle counts per phase, without making them."""
-    dp = values["numerics.spacing"]
-    ny = values["geometry.span_layers"]
-    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
-    return {"fluid": nx * ny * nz, "walls": tank_wall_count(ntank, ny, nz_wall, values["geometry.wall_layers"],
-                                                            values["geometry.periodic_y"])}
-
-
-def period_and_box(nx, ny, spacing, layers, top, periodic_y, margin):
-    """(period, domain_lo, domain_hi): y periodic over the slab if asked; a box `margin` beyond the walls."""
-    span = ny * spacing
-    period = np.array([0.0, span if periodic_y else 0.0, 0.0])
-    lo = np.array([-(layers * spacing) - margin, 0.0 if periodic_y else -(layers * spacing) - margin,
-                   -(layers * spacing) - margin])
-    hi = np.array([nx * spacing + layers * spacing + margin, span if periodic_y else span + layers * spacing + margin,
-                   top + margin])
-    return period, lo, hi
-
-
 def outside_tank(pos, length, span, periodic_y, spacing):
     """Mask of fluid particles that crossed a wall: whose centre is past the centres of the wall's first particle
     layer (dp/2 beyond the wall's surface) below the floor, behind an end wall or (closed) a side wall.
@@ -166,27 +145,3 @@ def outside_tank(pos, length, span, periodic_y, spacing):
     if not periodic_y:
         out |= (pos[:, 1] < -m) | (pos[:, 1] > span + m)
     return out
-
-
-def column_in_tank(values, nx, nz, ntank, margin):
-    """A scene's Built: water on nx x ny x nz sites at the tank's upstream end (x from 0), in a tank ntank sites long
-    with the walls the values ask for (layers, height, periodic or closed across), and a domain `margin` beyond.
-    A column shorter than the tank gets a gate to settle behind (Built.release_walls): `wall_layers` thick (as many
-    as fit before the far wall) at its front face, as high as the walls."""
-    from ..state import FluidState, WallState
-    from .built import Built
-    dp = values["numerics.spacing"]
-    ny = values["geometry.span_layers"]
-    layers = values["geometry.wall_layers"]
-    periodic = values["geometry.periodic_y"]
-    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
-    rho0 = values["fluid.density"]
-    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
-    fluid = FluidState.at_rest(lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
-    walls = WallState.lattice(tank_walls(ntank, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
-    period, lo, hi = period_and_box(ntank, ny, dp, layers, nz_wall * dp, periodic, margin=margin)
-    gate = None
-    if ntank > nx:
-        gate = WallState.lattice(lattice(min(layers, ntank - nx), ny, nz_wall, dp, offset=(nx * dp, 0.0, 0.0)), rho0,
-                                 dp, mass_scale=scale)
-    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period, release_walls=gate)

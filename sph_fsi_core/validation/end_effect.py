@@ -76,7 +76,7 @@ def beam_terms(values, probe_points, cache=None):
     file, when given). phi = 1 - w_EB / w_FE at the layer (x = L - dp / 2). `probe_points`: the layer's particles
     as the scene places them (the section centred on y = z = 0)."""
     import json
-    from ..scenes.cantilever_loaded import total_load
+    from ..scenes.cases.cantilever_loaded import total_load
     from ..answers.fe_reference import cantilever_fe_static_deflection
     length, thickness, width = (values[f"geometry.{k}"] for k in ("length", "thickness", "width"))
     e, nu, dp = values["solid.young_modulus"], values["solid.poisson_ratio"], values["numerics.spacing"]
@@ -107,16 +107,18 @@ def decompose(rungs, summaries, out_dir=None):
     "fit_length": (a, b, residuals), "fit_phi": (a, g, residuals)}}. `out_dir`: where the runs are (the beams' FE
     values are kept there)."""
     from ..scene import load_scene
-    from ..scenes import cantilever_loaded, clamped_plate
+    from ..scenes import clamped_plate
+    from ..scenes.cases import probe_named
     out = {}
     for r in rungs:
         s = summaries.get(r.key)
         if r.case != "clamp_effect" or s is None or s.get("error_signed") is None:
             continue
-        values = load_scene(r.scene, list(r.overrides.items())).values
+        spec = load_scene(r.scene, list(r.overrides.items()))
+        values = spec.values
         if r.scene == "cantilever_loaded":
-            built = cantilever_loaded.build(values)
-            points = built.solid.pos[built.probes[0].indices]
+            built, _ = spec.build()
+            points = built.solid.pos[probe_named(built.probes, "tip").indices]
             cache = Path(out_dir) / "runs" / r.case / r.label / "fe3d_static.json" if out_dir else None
             reference, phi = beam_terms(values, points, cache)
             ratio = values["geometry.length"] / values["geometry.thickness"]

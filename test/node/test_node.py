@@ -42,7 +42,7 @@ NODE_EXE = str(Path(sys.prefix) / "bin" / "sph_fsi_node")
 PERIOD = 0.001                       # publish_period of the test node [s]
 SMALL = {"geometry.length": 0.012, "geometry.width": 0.003, "geometry.clamp_margin": 2}
 # the default scheme's mirrored clamp: 4 layers of ghosts behind the root, no margin (geometry.clamp_margin is the
-# fixed clamp's; scenes/cantilever.py), the last left out: beyond the body's reach (scenes/built.py)
+# fixed clamp's; config/cantilever.yaml), the last left out: beyond the body's reach (scenes/built.py)
 MOVING, CLAMP = 12 * 3 * 4, 3 * 3 * 4     # 144, 36
 FIRST_CLOCK_TIMEOUT = 400.0         # a cold Numba cache: the build compiles the fit (125 s before t = 0 on a shared host)
 LATENCY_LIMIT = 0.2

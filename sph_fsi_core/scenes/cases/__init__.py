@@ -47,7 +47,9 @@ def probe_named(probes, name):
 
 
 def _registry():
-    return {module.CASE.name: module.CASE for module in ()}
+    from . import cantilever, cantilever_loaded, dam_break, hydrostatic, lobovsky_dam_break
+    return {module.CASE.name: module.CASE for module in (cantilever, cantilever_loaded, dam_break, hydrostatic,
+                                                         lobovsky_dam_break)}
 
 
 CASES = _registry()

@@ -81,7 +81,7 @@ def rungs():
                       note="8 particles through the plate, E = 3.375 GPa, the default scheme as it is, "
                            "coupling.relaxation = 0.3, the fluid's step 1 ms as at 4 and 6 through"))
     # The fluid's part alone: the same 2 m column, relaxed the same way, on the rigid floor of the hydrostatic tank
-    # (scenes/hydrostatic.py), its walls as the plate's side walls. Its departure at 0.25-0.4 s is the coupled
+    # (config/hydrostatic.yaml), its walls as the plate's side walls. Its departure at 0.25-0.4 s is the coupled
     # 8-through plate's (docs/validation/OPEN.md 1.0); the narrow tank (0.1 m: 16 columns) shows it in a minute.
     column = {"geometry.depth": 2.0, "geometry.wall_height": 2.1, "geometry.span_layers": 6,
               "geometry.water_damping_ratio": 1.0, "fluid.time_step": 1.0e-3, "output.timeseries_interval": 1.0e-3}
