@@ -277,19 +277,18 @@ def _resolve(builder_name, flat, origin):
 
 
 def _takes_expressions(param, own):
-    """Whether a key's value may be an expression (geometry/expressions.py): a part's, probe's or judge's number or
-    choice, and the geometry builder's own keys; not a declared parameter (it is the input) nor another section's."""
-    if param.kind not in ("float", "int", "vec3", "bool") and not param.choices:
-        return False
+    """Whether a key's value may be an expression (geometry/expressions.py): a part's, probe's or judge's key, and
+    the geometry builder's own keys; not a declared parameter (it is the input) nor another section's key."""
     section, _, name = param.key.partition(".")
     return section in LISTS or (section == "geometry" and name in own)
 
 
 def _is_expression(param, raw):
+    """A number or a switch written as text, a choice that is not one of them, or text that starts with '='."""
     if param.kind == "vec3":
         return isinstance(raw, (list, tuple)) and any(isinstance(v, str) for v in raw)
-    if param.choices:
-        return isinstance(raw, str) and raw not in param.choices
+    if param.kind == "str":
+        return isinstance(raw, str) and (raw.startswith("=") or bool(param.choices) and raw not in param.choices)
     return isinstance(raw, str)
 
 
@@ -312,10 +311,11 @@ def _evaluate(values, schema, declared, derived, deferred):
             if not isinstance(item, str):
                 out.append(item)
                 continue
-            if param.choices and item.strip().isidentifier() and item.strip() not in space.names:
+            text = item[1:] if param.kind == "str" and item.startswith("=") else item
+            if param.choices and text.strip().isidentifier() and text.strip() not in space.names:
                 param.coerce(item)          # a word that names nothing: a misspelt choice, refused as one
             try:
-                out.append(evaluate(item, space))
+                out.append(evaluate(text, space))
             except ExpressionError as exc:
                 raise refusal(key, item, exc) from None
         result = out if param.kind == "vec3" else out[0]

@@ -10,10 +10,16 @@ from sph_fsi_core.fluid.okaji import viscous_velocity, xz_periodic_marker
 from sph_fsi_core.fluid.solver import FluidSolver
 from sph_fsi_core.numerics.kernels import cubic_spline_w, lattice_density_scale, lattice_kernel_sum
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes import tank
 from sph_fsi_core.schema import SceneError
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.state import FluidState
+
+
+def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
+    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest."""
+    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
 
 DP = 1.0e-3
 RATIO = 1.3
@@ -22,7 +28,7 @@ H = RATIO * DP
 
 def _periodic_block(n, scale=1.0, jitter=0.0, seed=0):
     """An n^3 lattice, periodic on all axes (period n dp), mass rho0 dp^3 / lattice sum; positions scaled/jittered."""
-    pos = tank.lattice(n, n, n, DP) * scale
+    pos = lattice(n, n, n, DP) * scale
     if jitter:
         pos += np.random.default_rng(seed).normal(0.0, jitter * DP, pos.shape)
     fluid = FluidState.at_rest(pos, 1000.0, DP, mass_scale=lattice_density_scale(RATIO))

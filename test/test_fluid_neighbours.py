@@ -4,7 +4,13 @@ import pytest
 
 from sph_fsi_core.fluid.neighbours import FluidNeighbourList, inside_box, named_in, source_grid
 from sph_fsi_core.numerics.neighbours import NeighbourList
-from sph_fsi_core.scenes import tank
+
+
+def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
+    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest."""
+    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
 
 DP = 1.0e-3
 H = 1.3 * DP
@@ -30,7 +36,7 @@ def _rows(lst):
 def test_fluid_neighbour_list_equals_the_general_one(half):
     """The fluid's list builder (sources in cell order, division-free minimum image) gives exactly the general
     NeighbourList's rows, on a jittered periodic block with particles a little outside the box."""
-    pos = tank.lattice(9, 9, 9, DP) + np.random.default_rng(3).normal(0.0, 0.3 * DP, (729, 3))
+    pos = lattice(9, 9, 9, DP) + np.random.default_rng(3).normal(0.0, 0.3 * DP, (729, 3))
     period = np.array([0.0, 9 * DP, 0.0])
     pos[:5, 1] -= 0.2 * DP        # a little below the periodic box's start
     cutoff_args = (2.0 * H, 0.1 * H)
@@ -40,7 +46,7 @@ def test_fluid_neighbour_list_equals_the_general_one(half):
     fast.build(pos, pos)
     assert general.pairs > 10 * len(pos) and np.array_equal(general.start, fast.start)
     assert np.array_equal(general.index, fast.index)
-    walls = tank.lattice(9, 9, 2, DP, offset=(0.0, 0.0, -2 * DP))
+    walls = lattice(9, 9, 2, DP, offset=(0.0, 0.0, -2 * DP))
     general.half = fast.half = False
     general.build(pos, walls)
     fast.build(pos, walls)
@@ -82,17 +88,17 @@ def test_cells_out_of_reach_hide_no_neighbour(period_in_dp):
     list between two sets."""
     period = np.array(period_in_dp, dtype=float) * DP
     cutoff = 2.0 * DP
-    lattice = tank.lattice(9, 9, 6, DP)
-    jittered = lattice + np.random.default_rng(5).uniform(-0.45 * DP, 0.45 * DP, lattice.shape)
+    sites = lattice(9, 9, 6, DP)
+    jittered = sites + np.random.default_rng(5).uniform(-0.45 * DP, 0.45 * DP, sites.shape)
     for k in range(3):
         if period[k] > 0.0:
             jittered[:, k] %= period[k]
-            lattice = lattice[lattice[:, k] < period[k] - 1e-12]
+            sites = sites[sites[:, k] < period[k] - 1e-12]
     far = np.array([[30 * DP, 4 * DP, 2 * DP], [-20 * DP, -20 * DP, -20 * DP], [4 * DP, 4 * DP, 6.9 * DP]])
     for k in range(3):   # the lists' contract: on a periodic axis, positions within the box (a shift of one period)
         if period[k] > 0.0:
             far[:, k] %= period[k]
-    for points in (lattice, jittered):
+    for points in (sites, jittered):
         half = FluidNeighbourList(cutoff, 0.0, period=period, box_lo=np.zeros(3), box_hi=period, half=True)
         half.build(points, points)
         expected = _brute_force_rows(points, points, cutoff, period, True)
@@ -111,8 +117,8 @@ def test_cells_out_of_reach_hide_no_neighbour(period_in_dp):
 def test_a_shared_or_kept_grid_gives_the_same_lists():
     """The wall->fluid list scanning the half list's fluid grid, and a fixed-walls list keeping its grid while the
     walls stay, give the rows a fresh grid gives; a wall that moves (a solid in the boundary) makes a new grid."""
-    fluid = tank.lattice(8, 6, 8, DP) + np.random.default_rng(2).normal(0.0, 0.2 * DP, (384, 3))
-    walls = tank.lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
+    fluid = lattice(8, 6, 8, DP) + np.random.default_rng(2).normal(0.0, 0.2 * DP, (384, 3))
+    walls = lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
     period = np.array([0.0, 6 * DP, 0.0])
     args = (2.0 * H, 0.1 * H)
     kw = dict(period=period, box_lo=np.zeros(3), box_hi=period)
@@ -140,7 +146,7 @@ def test_a_neighbour_on_the_corner_of_a_cell_just_in_reach_is_kept():
     exactly the cutoff here) and a target diagonally across, 0.9999 cutoff away, whose gaps to that cell add up to
     0.9998 cutoff^2: the pair is listed."""
     cutoff = 2.0 * DP
-    sources = tank.lattice(9, 9, 9, DP, offset=(-0.5 * DP,) * 3)   # 0 .. 8 dp: 4 cells of 2 dp per axis
+    sources = lattice(9, 9, 9, DP, offset=(-0.5 * DP,) * 3)   # 0 .. 8 dp: 4 cells of 2 dp per axis
     delta = 0.9999 * cutoff / np.sqrt(3.0)
     targets = np.full((1, 3), 2.0 * DP - delta)    # in cell (0, 0, 0), across the corner (2, 2, 2) dp
     lst = FluidNeighbourList(cutoff, 0.0)
@@ -155,10 +161,10 @@ def test_the_fluid_to_wall_list_scanning_only_the_fluid_the_wall_to_fluid_list_n
     """The solver's rebuild scans for fluid->wall rows only the fluid particles that the wall->fluid list names
     (named_in): on a jittered periodic block above a floor, the rows and crossing flags are those of a scan over
     all the fluid, and most of the fluid is not scanned."""
-    fluid = tank.lattice(8, 6, 12, DP) + np.random.default_rng(4).normal(0.0, 0.2 * DP, (576, 3))
+    fluid = lattice(8, 6, 12, DP) + np.random.default_rng(4).normal(0.0, 0.2 * DP, (576, 3))
     period = np.array([0.0, 6 * DP, 0.0])
     fluid[:, 1] %= period[1]
-    walls = tank.lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
+    walls = lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
     args = (2.0 * H, 0.1 * H)
     kw = dict(period=period, box_lo=np.zeros(3), box_hi=period)
     wall_fluid = FluidNeighbourList(*args, **kw)
@@ -182,7 +188,7 @@ def test_the_fluid_to_wall_list_scanning_only_the_fluid_the_wall_to_fluid_list_n
 def test_a_half_list_over_shuffled_particles_is_the_brute_force_one():
     """The half list's row skips the sources below its target by their cells' ends or a search (_first_above); with
     the particles numbered at random (no cell wholly above or below a target) the rows are still brute force's."""
-    points = tank.lattice(9, 9, 9, DP) + np.random.default_rng(6).normal(0.0, 0.25 * DP, (729, 3))
+    points = lattice(9, 9, 9, DP) + np.random.default_rng(6).normal(0.0, 0.25 * DP, (729, 3))
     points = points[np.random.default_rng(8).permutation(len(points))]
     half = FluidNeighbourList(2.0 * DP, 0.1 * DP, half=True)
     half.build(points, points)

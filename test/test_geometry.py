@@ -15,12 +15,23 @@ from sph_fsi_core.geometry.shapes import Shape, rotation_matrix
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.scenes import BUILDERS
 from sph_fsi_core.scenes.built import check_layout
-from sph_fsi_core.scenes.tank import tank_walls
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "config" / "examples"
 PROBES_SCENE = REPO / "test" / "data" / "geometry_probes.yaml"
 geometry = BUILDERS["geometry"]
+
+
+def tank_walls(nx, ny, nz_wall, layers, spacing, periodic_y):
+    """The wall sites of a tank whose inside is nx x ny cells wide and nz_wall high, `layers` thick below and around,
+    as the tank scenes' builder made them before they were scene files (periodic: no side walls), x slowest."""
+    pad_y = 0 if periodic_y else layers
+    ii, jj, kk = np.meshgrid(np.arange(-layers, nx + layers), np.arange(-pad_y, ny + pad_y),
+                             np.arange(-layers, nz_wall), indexing="ij")
+    outside = (ii < 0) | (ii >= nx) | (kk < 0)
+    if not periodic_y:
+        outside |= (jj < 0) | (jj >= ny)
+    return (np.stack([ii[outside], jj[outside], kk[outside]], axis=-1) + 0.5) * spacing
 
 
 def keyed(pos, dp):
@@ -506,15 +517,16 @@ def test_a_part_numbers_its_sites_in_its_order_from_its_own_corner(tmp_path):
 
 def test_a_holder_part_clamps_the_solid_that_touches_it(tmp_path):
     """A solid part wholly inside its clamp box is a holder: its face is the one the other part's moving particles
-    leave it through, the mirrored clamp mirrors the holder into them, a mode starts from that face, and the
-    holder's particles beyond the body's reach are left out (the plate with one holder is the cantilever)."""
+    leave it through, the mirrored clamp mirrors the holder into them, a mode starts from that face, and with
+    unreached_clamp = leave_out the holder's particles beyond the body's reach are left out (the cantilever's)."""
     from sph_fsi_core.scenes import build_scene
     tree = {"scene": {"builder": "geometry", "end_time": 0.01, "gravity": [0.0, 0.0, 0.0]},
             "numerics": {"spacing": 0.001},
             "parts": [{"name": "beam", "role": "solid", "shape": "box", "size": [0.02, 0.004, 0.004],
                        "position": [0.01, 0.002, 0.002], "mode_tip_velocity": [0, 0, 0.01]},
                       {"name": "root", "role": "solid", "shape": "box", "size": [0.004, 0.004, 0.004],
-                       "position": [-0.002, 0.002, 0.002], "clamp_lo": [-1, -1, -1], "clamp_hi": [0, 1, 1]}],
+                       "position": [-0.002, 0.002, 0.002], "clamp_lo": [-1, -1, -1], "clamp_hi": [0, 1, 1],
+                       "unreached_clamp": "leave_out"}],
             "probes": [{"name": "tip", "kind": "displacement", "position": [0.0195, 0.002, 0.002],
                         "size": [0.001, 0.004, 0.004]}]}
     spec = load_scene(scene_file(tmp_path, tree))
@@ -528,6 +540,7 @@ def test_a_holder_part_clamps_the_solid_that_touches_it(tmp_path):
     assert tip.name == "tip" and len(tip.indices) == 16 and np.allclose(solid.pos[tip.indices, 0], 0.0195)
     kept, left_out = build_scene("geometry", spec.values)
     assert left_out == 16 and kept.solid.count == 368                       # the holder's last layer: out of reach
+    assert build_scene("geometry", spec.with_overrides({"parts.root.unreached_clamp": "keep"}).values)[1] == 0
     tree["parts"][1]["position"] = [-0.012, 0.002, 0.002]
     with pytest.raises(SceneError, match="parts.root.clamp_lo: the clamp box holds all of the part's particles, and "
                                          "no moving solid particle of another part touches it"):

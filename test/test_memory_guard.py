@@ -59,7 +59,7 @@ def test_the_estimate_follows_the_available_memory(monkeypatch):
     """The same scene passes or not depending on what the machine has: the limit is the estimate, not a constant."""
     monkeypatch.delenv(memory_guard.MAX_PARTICLES_ENV, raising=False)
     spec = load_scene("elastic_gate")
-    _, need = memory_guard.estimate(BUILDERS["elastic_gate"].particle_counts(spec.values))
+    _, need = memory_guard.estimate(BUILDERS[spec.builder].particle_counts(spec.values))
     monkeypatch.setattr(memory_guard, "available_bytes", lambda: need - 1)
     with pytest.raises(SceneError, match="elastic_gate.yaml: numerics.spacing = 0.001 m: the scene would have"):
         load_scene("elastic_gate")

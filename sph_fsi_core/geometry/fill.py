@@ -122,15 +122,54 @@ def ordered(part, sites):
     return sites[np.lexsort(keys)]
 
 
+@dataclass
+class Placed:
+    """A part's sites on the scene's lattice (N, 3), and how their positions are made: on the part's own Lattice
+    (its lattice_offset), `shift` whole sites from the scene's (the offset's and the move's), then moved by `move`
+    (m; None: not moved)."""
+    sites: np.ndarray
+    lattice: Lattice
+    shift: np.ndarray
+    move: np.ndarray | None = None
+
+    def positions(self, sites=None):
+        """(N, 3) m of `sites` (the part's own by default): lattice.positions(sites - shift) + move."""
+        pos = self.lattice.positions((self.sites if sites is None else sites) - self.shift)
+        return pos if self.move is None else pos + self.move
+
+    def with_sites(self, sites):
+        return Placed(sites, self.lattice, self.shift, self.move)
+
+    def floor(self):
+        """The bottom face of its lowest sites, m: lattice origin + whole layers (the water's floor, to the bit as a
+        column built from its own corner)."""
+        bottom = self.lattice.origin[2] + int((self.sites[:, 2] - self.shift[2]).min()) * self.lattice.dp
+        return bottom if self.move is None else bottom + self.move[2]
+
+
+def moved_sites(part, values):
+    """(the part's `move` (3,) m or None, in whole sites (3,)); SceneError if it is not whole spacings."""
+    dp = values["numerics.spacing"]
+    move = np.asarray(part.keys["move"], dtype=np.float64)
+    steps = move / dp
+    whole = np.round(steps).astype(np.int64)
+    if np.any(np.abs(steps - whole) > 1e-6 * np.maximum(1.0, np.abs(steps))):
+        raise SceneError(f"{part.key('move')} = {plain(move)}: not a whole number of spacings (numerics.spacing = "
+                         f"{dp:g} m); allowed: multiples of the spacing, so that the part stays on the lattice")
+    return (move if move.any() else None), whole
+
+
 def placed_sites(part, values):
-    """(the part's sites (N, 3) on the scene's lattice, in its order and cut to the periodic slab, the part's own
-    Lattice, its shift): its positions are lattice.positions(sites - shift). SceneError if it holds none."""
+    """The part's Placed sites on the scene's lattice: its shape's, moved, in its order and cut to the periodic slab
+    (SceneError if it holds none)."""
     lattice, shift = part_lattice(part, values)
+    move, steps = moved_sites(part, values)
+    shift = shift + steps
     sites = cut_to_period(part_sites(part, lattice, values) + shift, values)
     if len(sites) == 0:
         raise SceneError(f"parts.{part.name}: holds no lattice site inside the periodic slab geometry.period = "
                          f"{plain(values['geometry.period'])} m; allowed: a part that reaches into it")
-    return ordered(part, sites), lattice, shift
+    return Placed(ordered(part, sites), lattice, shift, move)
 
 
 def part_sites(part, lattice, values):
@@ -184,21 +223,20 @@ def _box_in_slab(part, values):
 
 def estimated_sites(part, values):
     """About how many sites the part holds, from its volume or its surface (the memory guard's count, made before
-    anything is built); an axis-aligned box's volume counted site by site, within the periodic slab, with no walls
-    across a periodic axis."""
+    anything is built); an axis-aligned box's sites counted along each axis (its volume, or its shell's layers on
+    each face, none across a periodic axis or an open face), within the periodic slab."""
     dp = values["numerics.spacing"]
     box = _box_in_slab(part, values)
     if part.role in ("water", "solid"):
         return int(np.prod(box[0])) if box is not None else int(math.ceil(part.shape.volume() / dp ** 3))
     layers = wall_layers(part, values)
-    if box is not None and part.keys["side"] == "outside" and any(p > 0.0 for p in values["geometry.period"]):
+    if box is not None:         # a box's shell counted site by site: its layers on each face that is not open
         sites, periodic = box
         opened = [AXES.index(f[1]) for f in open_faces(part)]
-        grown = sites.copy()
-        for axis in range(3):
-            if axis not in periodic:
-                grown[axis] += layers * (2 - opened.count(axis))
-        return int(np.prod(grown) - np.prod(sites))
+        layered = np.array([0 if axis in periodic else layers * (2 - opened.count(axis)) for axis in range(3)])
+        if part.keys["side"] == "outside":
+            return int(np.prod(sites + layered) - np.prod(sites))
+        return int(np.prod(sites) - np.prod(np.maximum(sites - layered, 0)))
     area = _area(part)
     if part.keys["side"] == "outside":     # the shell's outer surface is larger than the shape's
         grow = layers * dp

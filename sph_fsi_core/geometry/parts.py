@@ -47,7 +47,16 @@ def _every_part(k):
                "its face)", kind="str"),
             _p(k + "lattice_offset", (0.0, 0.0, 0.0), "m", "Its sites counted from geometry.lattice_origin plus this "
                "(whole spacings: the same lattice): at origin + offset + (i + 1/2) dp, which can differ from origin + "
-               "(i + 1/2) dp in the last bit; a block of sites counted from its own corner", kind="vec3")]
+               "(i + 1/2) dp in the last bit; a block of sites counted from its own corner", kind="vec3"),
+            _p(k + "move", (0.0, 0.0, 0.0), "m", "Its particles moved by this once placed (whole spacings: they stay "
+               "on the lattice): the part its shape describes, again elsewhere (the second of a pair of walls)",
+               kind="vec3"),
+            _when(k, "part")]
+
+
+def _when(k, what):
+    return _p(k + "when", True, "", f"Whether the {what} is in the scene: false leaves it out as if not listed (an "
+              f"expression in the scene's parameters: a part of one variant only)", kind="bool")
 
 
 def _box(k):
@@ -102,7 +111,12 @@ def _solid(k):
                "cantilever (Satake et al. eqs. (12)-(14)) from the clamp face along its normal, the free end moving "
                "at this velocity (0: none)", kind="vec3"),
             _p(k + "mode_length", 0.0, "m", "The length the mode's shape is scaled to (0: from the clamp face to "
-               "the free end's particles plus half a spacing)", low=0.0, high=1.0e3)]
+               "the free end's particles plus half a spacing)", low=0.0, high=1.0e3),
+            _p(k + "unreached_clamp", "keep", "", "With solid.clamp = mirrored, its clamp particles no moving "
+               "particle comes within 2h + dp of: 'keep' them in the solid, or 'leave_out': they become the water's "
+               "walls where they were built (the rigid holder they stand for; gone without water), and no solid pass "
+               "steps them (a long clamp: scenes/built.without_unreached_clamp)", kind="str",
+               choices=("keep", "leave_out"))]
 
 
 def _every_probe(k):
@@ -110,7 +124,8 @@ def _every_probe(k):
                "material point nearest to position), 'displacement' (the mean displacement of the solid's moving "
                "particles inside a box), 'pressure' (the water's pressure at a point on a wall), "
                "'water_height' (the free surface above position's (x, y), over its z), 'force' (the water's force on "
-               "a part)", kind="str", choices=PROBE_KINDS)]
+               "a part)", kind="str", choices=PROBE_KINDS),
+            _when(k, "probe")]
 
 
 def _probe_position(k):
@@ -134,7 +149,8 @@ def _every_judge(k):
                kind="str"),
             _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
             _p(k + "from", 0.0, "s", "Judged from this simulated time", low=0.0, high=1.0e3),
-            _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3)]
+            _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3),
+            _when(k, "judge")]
 
 
 def _judge_reference(k):
@@ -255,15 +271,16 @@ def reference_table(width=120):
     return lines
 
 
-def list_entries(flat, which):
-    """{name: {key: value}} of list `which` in the flat keys, in file order."""
+def list_entries(flat, which, listed=False):
+    """{name: {key: value}} of list `which` in the flat keys, in file order: the entries in the scene (`when` not
+    false), or with `listed` every one the file lists."""
     out = {}
     prefix = which + "."
     for key, value in flat.items():
         if key.startswith(prefix) and key.count(".") == 2:
             _, name, sub = key.split(".")
             out.setdefault(name, {})[sub] = value
-    return out
+    return out if listed else {name: keys for name, keys in out.items() if keys.get("when", True) is not False}
 
 
 def _choice(flat, key, choices):
@@ -280,13 +297,13 @@ def list_params(flat):
     """The Params of every part, probe and judge the flat keys name (SceneError naming a missing or unknown role,
     shape or kind)."""
     out = []
-    for name in list_entries(flat, "parts"):
+    for name in list_entries(flat, "parts", listed=True):
         role = _choice(flat, f"parts.{name}.role", ROLES)
         shape = _choice(flat, f"parts.{name}.shape", SHAPES)
         out += part_params(name, role, shape)
-    for name in list_entries(flat, "probes"):
+    for name in list_entries(flat, "probes", listed=True):
         out += probe_params(name, _choice(flat, f"probes.{name}.kind", PROBE_KINDS))
-    for name in list_entries(flat, "judge"):
+    for name in list_entries(flat, "judge", listed=True):
         out += judge_params(name, _choice(flat, f"judge.{name}.kind", JUDGE_KINDS))
     return out
 
@@ -299,7 +316,8 @@ ABSENT_SECTIONS = {"solid": "a part of role solid", "fluid": "a part of role wat
 def phases_of(flat):
     """The phases a scene of these parts has: water -> fluid, wall and gate -> walls, solid -> solid; coupling where
     there are both a solid and water. SceneError if it lists no part (before its sections are checked: they follow
-    from the parts)."""
+    from the parts). A part left out by a literal `when: false` gives none; one whose `when` is an expression counts
+    (the sections come before the expressions: scenes/geometry.check refuses a phase left without its parts)."""
     names = list_entries(flat, "parts")
     if not names:
         raise SceneError("parts: none; allowed: at least one part (a geometry scene is built from its parts, and its "

@@ -26,8 +26,7 @@ from dataclasses import dataclass, replace
 from typing import Callable
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
-from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, clamped_plate, elastic_gate, geometry,
-               hydrostatic_plate)
+from . import antoci_gate, antoci_gate_loaded, antoci_gate_static, elastic_gate, geometry
 from ..errors import SceneError
 from ..geometry.parts import list_entries
 from .built import check_layout, without_unreached_clamp
@@ -67,8 +66,7 @@ class Builder:
 
 
 BUILDERS = {name: Builder.of(name, module) for name, module in (
-    ("clamped_plate", clamped_plate), ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate),
-    ("hydrostatic_plate", hydrostatic_plate), ("antoci_gate_static", antoci_gate_static),
+    ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate), ("antoci_gate_static", antoci_gate_static),
     ("antoci_gate_loaded", antoci_gate_loaded), ("geometry", geometry))}
 DEFAULT_SCENE = "cantilever"
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..answers.judges import check_judges, evaluate_judges
 from ..answers.references import cantilever_mode_velocity
-from ..geometry.fill import (cut_to_period, estimated_sites, part_lattice, parts_of, placed_sites,
+from ..geometry.fill import (cut_to_period, estimated_sites, moved_sites, part_lattice, parts_of, placed_sites,
                              resolve_files)  # noqa: F401  (builder interface)
 from ..geometry.lattice import Lattice, filled, site_keys
 from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of  # noqa: F401
@@ -53,6 +53,10 @@ GEOMETRY = [
           "(the paper's), 'compressed' each water part as the density correction holds a column at rest (compression "
           "linear in depth to the tolerance at its floor), the wall sites beside it compressed the same way "
           "(scenes/tank.py compress_column)", kind="str", choices=WATER_STARTS),
+    Param("geometry.compressed_walls", "beside", "", "With water_start = compressed, the wall sites moved with each "
+          "water column: 'beside' it (within the kernel's reach of its footprint, above its floor) or 'all' above its "
+          "floor (a wall farther off kept level with the water's layers too)", kind="str",
+          choices=("beside", "all")),
     Param("geometry.period", (0.0, 0.0, 0.0), "m", "The period along each axis (0: not periodic): the domain wraps "
           "over [lattice_origin, lattice_origin + period] along it (whole spacings, at least twice the neighbour "
           "cutoff 2h + skin), and every part is cut to that slab: a tank across it has no walls there, water or a "
@@ -107,7 +111,8 @@ def check(values):
     roles = {p.role for p in parts}
     by_name = {p.name: p for p in parts}
     for part in parts:
-        part_lattice(part, values)                 # checks its offset
+        part_lattice(part, values)                 # checks its offset and its move
+        moved_sites(part, values)
         parse_order(part.key("order"), part.keys["order"])
         if part.role in ("wall", "gate"):
             estimated_sites(part, values)          # checks layers and open faces
@@ -119,6 +124,10 @@ def check(values):
         if part.role == "gate" and part.keys["release"] == "lifted" and not np.any(part.keys["lift_velocity"]):
             raise SceneError(f"{part.key('lift_velocity')} = [0, 0, 0]: a lifted gate must move; allowed: a non-zero "
                              f"velocity (or release = instant)")
+    for phase, role in (("solid", "solid"), ("fluid", "water")):
+        if f"{phase}.density" in values and role not in roles:
+            raise SceneError(f"parts: every {role} part is left out (its `when`), yet the scene lists one and has its "
+                             f"'{phase}' section; allowed: a {role} part in the scene, or when: false written as such")
     gates = [p for p in parts if p.role == "gate"]
     if len({(p.keys["release"], tuple(p.keys["lift_velocity"]) if p.keys["release"] == "lifted" else ())
             for p in gates}) > 1:
@@ -196,10 +205,9 @@ def _overlap(names, sites):
 def _claimed(part, placed, values):
     """The sites a wall, gate or solid part keeps water out of: its own, and for a body (a solid, or a wall or gate
     built inside its surface: an obstacle, hollow beyond the kernel's reach) every site inside its surface."""
-    sites, lattice, shift = placed
     if part.role == "solid" or part.keys["side"] == "outside":
-        return sites
-    return np.concatenate([sites, cut_to_period(filled(lattice, part.shape) + shift, values)])
+        return placed.sites
+    return np.concatenate([placed.sites, cut_to_period(filled(placed.lattice, part.shape) + placed.shift, values)])
 
 
 def _take_from_water(parts, placed, values):
@@ -207,7 +215,7 @@ def _take_from_water(parts, placed, values):
     parts, as DualSPHysics's GenCase lets a later shape take an earlier one's; a note per part that took any. So
     water poured around an obstacle fills only what is left; the water parts' sites stay in their order. SceneError
     naming a water part left with none."""
-    sites = [p[0] for p in placed]
+    sites = [p.sites for p in placed]
     water = [i for i, p in enumerate(parts) if p.role == "water"]
     others = [i for i, p in enumerate(parts) if p.role != "water"]
     if not water or not others:
@@ -313,12 +321,12 @@ def _solid(parts, placed, values, notes, warnings):
     body), a warning where nothing can hold one up. A body under three layers through runs on the linear fit where
     the quadratic one is not determined, and the solid's phase says so (solid/phase.py)."""
     dp = values["numerics.spacing"]
-    positions = [lattice.positions(sites - shift) for sites, lattice, shift in placed]
+    positions = [p.positions() for p in placed]
     clamped = [_clamp_mask(part, pos) for part, pos in zip(parts, positions)]
     faces, held_by = _clamp_faces(parts, positions, clamped, dp)
     offsets = np.cumsum([0] + [len(p) for p in positions])
     velocities, movables, index = [], [], {}
-    for k, (part, (sites, _, _), pos) in enumerate(zip(parts, placed, positions)):
+    for k, (part, pos) in enumerate(zip(parts, positions)):
         movable = np.ones(len(pos), dtype=bool) if clamped[k] is None else ~clamped[k]
         face = faces.get(held_by.get(k, -1))
         if k not in held_by:
@@ -372,21 +380,22 @@ def _unheld(part, values):
 
 def _compress(values, water, walls):
     """geometry.water_start = compressed: (water positions, wall positions) with each water part's column compressed
-    as it sits at rest, and the wall sites beside it (within the kernel's reach of its footprint, above its floor)
-    moved the same way. `water`, `walls`: each part's (sites, lattice, shift) (fill.placed_sites); a column's floor
-    and height are its sites' bottom face and its whole layers."""
+    as it sits at rest, and the wall sites beside it (within the kernel's reach of its footprint, above its floor; or
+    all above its floor: geometry.compressed_walls) moved the same way. `water`, `walls`: each part's fill.Placed; a column's floor and height are its sites' bottom
+    face and its whole layers."""
     dp = values["numerics.spacing"]
     compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
     reach = 2.0 * values["numerics.smoothing_ratio"] * dp + dp
-    water_pos = [lattice.positions(sites - shift) for sites, lattice, shift in water]
-    wall_pos = [lattice.positions(sites - shift) for sites, lattice, shift in walls]
-    for (sites, lattice, shift), pos in zip(water, water_pos):
-        bottom = int((sites[:, 2] - shift[2]).min())
-        floor = lattice.origin[2] + bottom * dp
-        height = (int(sites[:, 2].max()) - int(sites[:, 2].min()) + 1) * dp
+    water_pos = [p.positions() for p in water]
+    wall_pos = [p.positions() for p in walls]
+    for placed, pos in zip(water, water_pos):
+        floor = placed.floor()
+        height = (int(placed.sites[:, 2].max()) - int(placed.sites[:, 2].min()) + 1) * dp
         lo, hi = pos[:, :2].min(axis=0) - reach, pos[:, :2].max(axis=0) + reach
         for w in wall_pos:
-            beside = np.all((w[:, :2] > lo) & (w[:, :2] < hi), axis=1) & (w[:, 2] > floor)
+            beside = w[:, 2] > floor
+            if values["geometry.compressed_walls"] == "beside":
+                beside &= np.all((w[:, :2] > lo) & (w[:, :2] < hi), axis=1)
             w[beside, 2] = compress_column(w[beside, 2], floor, height, compression)
         pos[:, 2] = compress_column(pos[:, 2], floor, height, compression)
     return water_pos, wall_pos
@@ -398,7 +407,7 @@ def build(values):
     parts = parts_of(values)
     placed = [placed_sites(p, values) for p in parts]
     sites, notes = _take_from_water(parts, placed, values)
-    placed = [(s, lat, shift) for s, (_, lat, shift) in zip(sites, placed)]
+    placed = [p.with_sites(s) for s, p in zip(sites, placed)]
     overlap = _overlap([p.name for p in parts], sites)
     if overlap is not None:
         a, b, shared, where, pairs = overlap
@@ -416,8 +425,8 @@ def build(values):
     if water and values["geometry.water_start"] == "compressed":
         water_pos, wall_pos = _compress(values, [q for _, q in water], [q for _, q in walls])
     else:
-        water_pos = [lat.positions(s - shift) for _, (s, lat, shift) in water]
-        wall_pos = [lat.positions(s - shift) for _, (s, lat, shift) in walls]
+        water_pos = [q.positions() for _, q in water]
+        wall_pos = [q.positions() for _, q in walls]
     if water:
         rho0 = values["fluid.density"]
         built.fluid = FluidState.at_rest(np.concatenate(water_pos), rho0, dp, mass_scale=scale)
@@ -451,6 +460,8 @@ def build(values):
                                                               [q for _, q in by_role["solid"]], values, notes,
                                                               built.warnings)
         index.update({name: ("solid", idx) for name, idx in solid_index.items()})
+        whole = [solid_index[p.name] for p, _ in by_role["solid"] if p.keys["unreached_clamp"] == "keep"]
+        built.whole = np.concatenate(whole) if whole else np.zeros(0, dtype=np.int64)
     built.parts = index
     built.notes = notes
     built.period = np.array(values["geometry.period"], dtype=np.float64)

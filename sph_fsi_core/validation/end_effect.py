@@ -1,4 +1,4 @@
-"""Where the solid's static error comes from, on case clamp_effect's strips (scenes/clamped_plate.py): each rung's
+"""Where the solid's static error comes from, on case clamp_effect's strips (config/clamped_plate.yaml): each rung's
 error split by least squares over the ladder into parts that depend on the strip's length in known ways.
 
 For each rung the plane-strain FE (fe_reference.strip_static, elements of t / 16) gives three numbers:
@@ -107,7 +107,7 @@ def decompose(rungs, summaries, out_dir=None):
     "fit_length": (a, b, residuals), "fit_phi": (a, g, residuals)}}. `out_dir`: where the runs are (the beams' FE
     values are kept there)."""
     from ..scene import load_scene
-    from ..scenes import clamped_plate
+    from ..scenes import BUILDERS
     from ..scenes.cases import probe_named
     out = {}
     for r in rungs:
@@ -125,8 +125,8 @@ def decompose(rungs, summaries, out_dir=None):
             out.setdefault(r.label.split("_L_over_H_")[0], {"rows": []})["rows"].append(
                 (ratio, s["tip_deflection_m"] / reference - 1.0, phi, float("nan")))
             continue
-        built = clamped_plate.build(values)
-        probe = built.probes[0]
+        built = BUILDERS[spec.builder].build(values)
+        probe = built.probes[0]                        # the plate's one: midspan, or free_end for a cantilever
         points = [(x, z) for x, _, z in built.solid.pos[probe.indices]]
         reference, phi, sensitivity = strip_terms(values, points)
         measured = s["midspan_deflection_m"] if "midspan_deflection_m" in s else s["free_end_deflection_m"]

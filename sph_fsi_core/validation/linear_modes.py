@@ -400,7 +400,7 @@ def clamped_plate_deflection(overrides=(), **kw):
     """The clamped_plate scene's deflection assembled (static_displacement) against its plane-strain FE reference,
     as the scene judges it: mid-span clamped at both ends, the free end's probe (x = L - dp / 2) with
     geometry.supports = clamped_free: a dict."""
-    from ..scenes import clamped_plate
+    from ..scenes.cases import clamped_plate
     from ..answers.fe_reference import cantilever_strip_fe_deflection, clamped_plate_fe_deflection
     u, built, v = static_displacement("clamped_plate", overrides, **kw)
     deflection = float(u[built.probes[0].indices, 2].mean())

@@ -47,9 +47,10 @@ def probe_named(probes, name):
 
 
 def _registry():
-    from . import cantilever, cantilever_loaded, dam_break, hydrostatic, lobovsky_dam_break
-    return {module.CASE.name: module.CASE for module in (cantilever, cantilever_loaded, dam_break, hydrostatic,
-                                                         lobovsky_dam_break)}
+    from . import (cantilever, cantilever_loaded, clamped_plate, dam_break, hydrostatic, hydrostatic_plate,
+                   lobovsky_dam_break)
+    return {module.CASE.name: module.CASE for module in (
+        cantilever, cantilever_loaded, clamped_plate, hydrostatic, dam_break, lobovsky_dam_break, hydrostatic_plate)}
 
 
 CASES = _registry()

@@ -6,7 +6,7 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
-# The same plate under 2 m of water (scenes/hydrostatic_plate.py, Fourey et al. 2017), coupled: settled deflection
+# The same plate under 2 m of water (config/hydrostatic_plate.yaml, Fourey et al. 2017), coupled: settled deflection
 # against the same FE value and the water's load against its weight. The benchmark's aluminium takes a solid step
 # of 0.7 us at 4 particles through; the ladder runs the plate 20 times softer (E = 3.375 GPa: the deflection 20
 # times larger, 3 % of the thickness, still linear: the FE reference is for the same E), whose step is sqrt(20) =
@@ -164,7 +164,7 @@ def table(out_dir, rungs, summaries):
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *lines, *peers_table(rungs, summaries)]
 
 
-# the benchmark's plate (Fourey et al. 2017): span and thickness, m (scenes/hydrostatic_plate.py's defaults)
+# the benchmark's plate (Fourey et al. 2017): span and thickness, m (config/hydrostatic_plate.yaml's defaults)
 BENCHMARK_PLATE = (1.0, 0.05)
 # Peers on it: (result, method, particles through, mid-span deflection against beam theory in %, positive for less
 # deflection), as the comment lines of ../shared/reference/hydrostatic_plate_fourey2017.csv give them ("about" where
