@@ -26,7 +26,7 @@ from dataclasses import dataclass, replace
 from typing import Callable
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
-from . import antoci_gate, antoci_gate_loaded, antoci_gate_static, elastic_gate, geometry
+from . import geometry
 from ..errors import SceneError
 from ..geometry.parts import list_entries
 from .built import check_layout, without_unreached_clamp
@@ -65,9 +65,7 @@ class Builder:
                    **optional)
 
 
-BUILDERS = {name: Builder.of(name, module) for name, module in (
-    ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate), ("antoci_gate_static", antoci_gate_static),
-    ("antoci_gate_loaded", antoci_gate_loaded), ("geometry", geometry))}
+BUILDERS = {name: Builder.of(name, module) for name, module in (("geometry", geometry),)}
 DEFAULT_SCENE = "cantilever"
 
 

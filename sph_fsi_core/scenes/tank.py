@@ -1,9 +1,10 @@
-"""Shared geometry of the fluid scenes: lattice blocks and the wall particles of an open-topped tank.
+"""What the water's scenes share: a column at rest (its breathing mode, its relaxation, its compression as the density
+correction holds it) and the tank scenes' refusals and checks (whole layers, a column that fits its tank, water
+that crossed a wall). The geometry builder compresses a water part with it (geometry.water_start); the case modules
+(scenes/cases) judge and relax with it.
 
-Everything sits on one cubic lattice of spacing dp with sites at (i + 1/2) dp, so the fluid at rest and the walls
-continue each other's lattice and the summation density (1) of a fluid particle next to a wall is rho0, as in the
-bulk. The tank's inside is x in [0, length], z >= 0 and, across, y in [0, span]: periodic along y (a slab of
-`span` with no side walls) or closed by walls at y = 0 and y = span.
+A tank scene's inside is x in [0, length], z >= 0 and, across, y in [0, span]: periodic along y (a slab of `span`
+with no side walls) or closed by walls at y = 0 and y = span.
 """
 import math
 
@@ -15,7 +16,7 @@ from ..schema import SceneError
 def breathing_period(height, gravity, tolerance):
     """T_b = 4 H / c_b, c_b = sqrt(g H / tolerance), s: a column's first mode as a quarter-wave resonator whose
     compressibility is what the density tolerance allows (the density correction acts only above it). It sets
-    the water's relaxation rate in the static cases (scenes/hydrostatic_plate.py, antoci_gate_static.py); without
+    the water's relaxation rate in the static cases (the hydrostatic plate, Antoci's gate at rest); without
     gravity, 9.81 m/s^2 (the rate only shortens the way to rest)."""
     g = math.sqrt(sum(x * x for x in gravity)) or 9.81
     return 4.0 * height / math.sqrt(g * height / tolerance)
@@ -54,17 +55,6 @@ def compress_column(z, floor, height, compression):
     return z - compression * (height * u - 0.5 * u * u) / height
 
 
-def build_water_start(values, floor, height, *points):
-    """geometry.water_start: with 'compressed', the heights of each (N, 3) array in `points` (the water and the walls
-    beside it) moved in place by compress_column over `floor`, `height` deep, at the bottom compression the scene's
-    tolerance holds; with 'lattice', nothing."""
-    if values["geometry.water_start"] != "compressed":
-        return
-    compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
-    for p in points:
-        p[:, 2] = compress_column(p[:, 2], floor, height, compression)
-
-
 def whole_layers(extent, spacing, key, at_least=1):
     """Number of lattice layers in `extent`, or SceneError if it is not a whole number of spacings."""
     n = extent / spacing
@@ -76,35 +66,6 @@ def whole_layers(extent, spacing, key, at_least=1):
         raise SceneError(f"numerics.spacing = {spacing:g} m is too coarse for {key} = {extent:g} m; allowed: at "
                          f"most {extent / at_least:g} m ({at_least} particle layers)")
     return n
-
-
-def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
-    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest (neighbours stay close in memory)."""
-    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
-    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-
-
-def tank_walls(nx, ny, nz_wall, layers, spacing, periodic_y):
-    """Wall sites of a tank whose inside is nx x ny cells wide and nz_wall high, `layers` thick below and around.
-
-    Periodic in y: floor and end walls span the slab's ny sites only. Closed: side walls at y < 0 and y > span too.
-    """
-    pad_y = 0 if periodic_y else layers
-    i = np.arange(-layers, nx + layers)
-    j = np.arange(-pad_y, ny + pad_y)
-    k = np.arange(-layers, nz_wall)
-    ii, jj, kk = np.meshgrid(i, j, k, indexing="ij")
-    outside = (ii < 0) | (ii >= nx) | (kk < 0)
-    if not periodic_y:
-        outside |= (jj < 0) | (jj >= ny)
-    sites = np.stack([ii[outside], jj[outside], kk[outside]], axis=-1)
-    return (sites + 0.5) * spacing
-
-
-def tank_wall_count(nx, ny, nz_wall, layers, periodic_y):
-    """len(tank_walls(...)) without making them: the padded block less the tank's inside."""
-    pad_y = 0 if periodic_y else layers
-    return (nx + 2 * layers) * (ny + 2 * pad_y) * (nz_wall + layers) - nx * ny * nz_wall
 
 
 def column_sites(values):

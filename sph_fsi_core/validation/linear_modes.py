@@ -419,8 +419,8 @@ def clamped_plate_deflection(overrides=(), **kw):
 
 def gate_loaded_deflection(overrides=(), **kw):
     """The antoci_gate_loaded scene's free-end deflection along the water's push, assembled, against its
-    plane-strain FE reference (scenes/gate.py, static_tip_reference): a dict."""
-    from ..scenes import antoci_gate_loaded, gate
+    plane-strain FE reference (scenes/cases/gate.py, static_tip_reference): a dict."""
+    from ..scenes.cases import antoci_gate_loaded, gate
     u, built, v = static_displacement("antoci_gate_loaded", overrides, **kw)
     push = 1.0 if v["geometry.mirror"] else -1.0
     deflection = float(push * u[built.probes[0].indices, 0].mean())

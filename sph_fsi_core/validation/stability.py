@@ -122,8 +122,8 @@ def gate_cases():
     scenes = builtin_scenes()
     if "elastic_gate" not in scenes:
         return []
-    # at 2 mm the gate is two particles thick, too few for the default scheme's quadratic fit (scenes/gate.py
-    # refuses it): these cases run the paper's scheme, as they were run before it became the default
+    # at 2 mm the gate is two particles thick, too few for the default scheme's quadratic fit (the gate's case
+    # refuses it: scenes/cases/gate.py): these cases run the paper's scheme, as they were run before it became the default
     base = {"numerics.spacing": 0.002, "geometry.gate_clamp_height": 0.004, "coupling.model": "pressure",
             "solid.scheme": "gray2001"}
     cases = []

@@ -47,10 +47,11 @@ def probe_named(probes, name):
 
 
 def _registry():
-    from . import (cantilever, cantilever_loaded, clamped_plate, dam_break, hydrostatic, hydrostatic_plate,
-                   lobovsky_dam_break)
+    from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
+                   dam_break, elastic_gate, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
     return {module.CASE.name: module.CASE for module in (
-        cantilever, cantilever_loaded, clamped_plate, hydrostatic, dam_break, lobovsky_dam_break, hydrostatic_plate)}
+        cantilever, cantilever_loaded, clamped_plate, hydrostatic, dam_break, lobovsky_dam_break, hydrostatic_plate,
+        elastic_gate, antoci_gate, antoci_gate_static, antoci_gate_loaded)}
 
 
 CASES = _registry()
