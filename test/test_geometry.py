@@ -575,3 +575,50 @@ def test_the_tank_scene_files_build_the_tanks_lattice():
     dp, column = spec["numerics.spacing"], 20 * spec["numerics.spacing"]
     gate = built.release_walls.pos
     assert len(gate) == 3 * 6 * 53 and np.array_equal(gate[:, 0], column + (np.repeat(np.arange(3), 6 * 53) + 0.5) * dp)
+
+
+def test_an_entry_exists_when_its_condition_holds_and_a_part_moves_as_a_copy(tmp_path):
+    """`when` leaves a part, probe or judge out where it is false (an expression: one variant's entry); `move`
+    places a part's particles again elsewhere, whole spacings on, (x + offset) + move to the bit; a text key takes
+    an expression written `= ...`."""
+    tree = dict(SLAB, geometry={**SLAB["geometry"], "second": {"value": False, "unit": "", "description": "Two"}})
+    post = {"name": "post", "role": "wall", "shape": "box", "size": [0.03, "span", 0.05],
+            "position": [0.05, "span / 2", 0.025], "layers": 3}
+    tree["parts"] = SLAB["parts"] + [post, dict(post, name="post2", move=["0.1", 0, 0], when="second",
+                                                order="= '-x y z' if second else 'x y z'")]
+    tree["probes"] = [{"name": "p", "kind": "pressure", "position": [0.15, 0.03, 0.0], "when": "second"}]
+    one = load_scene(scene_file(tmp_path, tree))
+    built = geometry.build(one.values)
+    assert set(built.parts) == {"tank", "water", "post"} and built.probes == []
+    two = one.with_overrides({"geometry.second": True})
+    assert two["parts.post2.order"] == "-x y z"
+    built = geometry.build(two.values)
+    walls, (_, post1), (_, post2) = built.walls.pos, built.parts["post"], built.parts["post2"]
+    assert len(post1) == len(post2) and [p.name for p in built.probes] == ["p"]
+    first = walls[post1][np.lexsort((walls[post1][:, 2], walls[post1][:, 1], -walls[post1][:, 0]))]
+    assert np.array_equal(walls[post2], first + np.array([0.1, 0.0, 0.0]))
+    with pytest.raises(SceneError, match=r"parts.post2.move = \[0.105, 0, 0\]: not a whole number of spacings"):
+        load_scene(scene_file(tmp_path, tree), ["geometry.second=true", "parts.post2.move=[0.105, 0, 0]"])
+    tree["parts"] = [SLAB["parts"][0], dict(SLAB["parts"][1], when="second")]
+    with pytest.raises(SceneError, match="parts: every water part is left out"):
+        load_scene(scene_file(tmp_path, tree))
+
+
+def test_a_compressed_start_moves_the_walls_beside_the_water_or_all_of_them(tmp_path):
+    """geometry.water_start = compressed: the water's layers as the density correction holds the column; the wall
+    sites above its floor move with it where they are beside it (the tank's), or all of them with
+    compressed_walls = all (a post far off too)."""
+    far = {"name": "far", "role": "wall", "shape": "box", "size": [0.03, "span", 0.05],
+           "position": [0.5, "span / 2", 0.025], "layers": 3}
+    tree = dict(SLAB, parts=SLAB["parts"] + [far])
+    lattice = geometry.build(load_scene(scene_file(tmp_path, tree)).values)
+    beside = geometry.build(load_scene(scene_file(tmp_path, tree), ["geometry.water_start=compressed"]).values)
+    every = geometry.build(load_scene(scene_file(tmp_path, tree), ["geometry.water_start=compressed",
+                                                                   "geometry.compressed_walls=all"]).values)
+    far_rows = beside.parts["far"][1]
+    assert np.array_equal(beside.walls.pos[far_rows], lattice.walls.pos[far_rows])
+    assert (every.walls.pos[far_rows, 2] < lattice.walls.pos[far_rows, 2]).all()
+    tank_rows = beside.parts["tank"][1]
+    assert np.array_equal(beside.walls.pos[tank_rows], every.walls.pos[tank_rows])
+    assert (beside.fluid.pos[:, 2] <= lattice.fluid.pos[:, 2]).all() and (beside.fluid.pos[:, 2]
+                                                                          < lattice.fluid.pos[:, 2]).any()

@@ -1,24 +1,33 @@
 """A scene from geometry, no code: parts (water, walls, elastic solids, gates) of boxes, cylinders, spheres and
 closed meshes placed in the world, probes at named places and judges of the time series, all in the scene file.
+Every scene is one, the built-in ones too (config/*.yaml).
 
     scene: {builder: geometry, end_time: 1.0}
     numerics: {spacing: 0.02}
+    geometry:
+      depth: {value: 0.55, unit: m, range: "(0, 10]", description: "The water's depth"}
     parts:
       - {name: tank, role: wall, shape: box, size: [3.22, 1.0, 1.0], position: [1.61, 0.0, 0.5], side: outside,
          open: "+z"}
-      - {name: water, role: water, shape: box, size: [1.228, 1.0, 0.55], position: [2.606, 0.0, 0.275]}
+      - {name: water, role: water, shape: box, size: [1.228, 1.0, depth], position: [2.606, 0.0, depth / 2]}
     probes:
       - {name: H2, kind: water_height, position: [0.992, 0.0, 0.0]}
 
-Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometry.lattice_origin + (i + 1/2) dp,
-those its shape holds by its role (geometry/fill.py). Walls, gates and solids take the water's sites where they
-overlap (water poured around an obstacle: _take_from_water) and may not share a site with each other; a solid needs
-three particle layers through for the quadratic fit (the default scheme's; where it has fewer, the linear fit). The
-build's notes (what a part took, a free body) and warnings (water outside every tank, a probe that can never read) go
-to the log and summary.json.
-The phases follow from the parts (geometry/parts.py): a scene without a solid part has no solid arrays, passes,
-topics or channels. Probes (probes.py) and judges (answers/judges.py) are declared beside the parts; the summary
-reports each judge's measure and error.
+The file declares its own parameters and derived quantities under `geometry:` (geometry/declared.py), and its
+lists' numbers and this builder's own keys may be expressions in them (geometry/expressions.py; scene.py evaluates
+them before anything here runs). What a file cannot say is its case module's (scenes/cases, `scene.case`): checked
+with the scene, its load and relaxation applied to what is built here.
+
+Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometry.lattice_origin + (i + 1/2) dp
+(counted from its lattice_offset, moved by its move, numbered in its order, cut to the periodic slab:
+geometry/fill.py), those its shape holds by its role. Walls, gates and solids take the water's sites where they
+overlap (water poured around an obstacle: _take_from_water) and may not share a site with each other. A solid's
+clamp is its part inside its clamp box, or a holder part wholly inside one (_clamp_faces); a solid needs three
+particle layers through for the quadratic fit (the default scheme's; where it has fewer, the linear fit). The
+build's notes (what a part took, a free body) and warnings (water outside every tank, a probe that can never read)
+go to the log and summary.json. The phases follow from the parts (geometry/parts.py): a scene without a solid part
+has no solid arrays, passes, topics or channels. Probes (probes.py) and judges (answers/judges.py) are declared
+beside the parts; the summary reports each judge's measure and error.
 """
 import math
 
@@ -27,21 +36,20 @@ import numpy as np
 from ..answers.judges import check_judges, evaluate_judges
 from ..answers.references import cantilever_mode_velocity
 from ..geometry.fill import (cut_to_period, estimated_sites, moved_sites, part_lattice, parts_of, placed_sites,
-                             resolve_files)  # noqa: F401  (builder interface)
+                             resolve_files)
 from ..geometry.lattice import Lattice, filled, site_keys
-from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of  # noqa: F401
+from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from ..probes import ProbeSpec, probe_columns
 from ..errors import plain
 from ..schema import Param, SceneError
 from ..state import FluidState, Probe, SolidState, WallState
+from .builder import Builder
 from .built import Built, clamp_mirror_across
 from .cases import CASES
 from .tank import WATER_STARTS, bottom_compression, compress_column
 
 PHASES = ("solid", "fluid", "walls", "coupling")   # the most a geometry scene has; its own: phases_of(its keys)
-CONSERVATIVE = False
-EXPRESSIONS = True      # its lists and own keys take expressions in the parameters its file declares
 
 GEOMETRY = [
     Param("geometry.lattice_origin", (0.0, 0.0, 0.0), "m", "The lattice: sites at lattice_origin + (i + 1/2) "
@@ -381,8 +389,8 @@ def _unheld(part, values):
 def _compress(values, water, walls):
     """geometry.water_start = compressed: (water positions, wall positions) with each water part's column compressed
     as it sits at rest, and the wall sites beside it (within the kernel's reach of its footprint, above its floor; or
-    all above its floor: geometry.compressed_walls) moved the same way. `water`, `walls`: each part's fill.Placed; a column's floor and height are its sites' bottom
-    face and its whole layers."""
+    all above its floor: geometry.compressed_walls) moved the same way. `water`, `walls`: each part's fill.Placed; a
+    column's floor and height are its sites' bottom face and its whole layers."""
     dp = values["numerics.spacing"]
     compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
     reach = 2.0 * values["numerics.smoothing_ratio"] * dp + dp
@@ -639,3 +647,9 @@ def _probes(values, built, index):
 def evaluate(series, values):
     """The scene's judges (answers/judges.py): each one's measure, reference and error; `error` is the first's."""
     return evaluate_judges(series, values)
+
+
+# the builder's interface (scenes/builder.py); conservative per scene: scenes.interface
+BUILDER = Builder("geometry", PHASES, GEOMETRY, DEFAULTS, conservative=False, check=check, build=build,
+                  particle_counts=particle_counts, evaluate=evaluate, phases_of=phases_of, list_params=list_params,
+                  resolve_files=resolve_files, absent_sections=ABSENT_SECTIONS, expressions=True)

@@ -2,13 +2,13 @@
 nothing moving in the end. What its file cannot say: the relaxation rates from the gate's first mode and the
 column's breathing mode, and the reference.
 
-The third of the gate's verification cases. Antoci et al. 2007's rubber gate (config/antoci_gate.yaml) with the gap under it
-closed (the free end stands on the floor, so no water passes) and gravity reduced to 1 m/s^2, so the water at rest
-pushes the free end about 5 % of the gate's length (3.9 mm against FE; 38 mm at 9.81, far beyond a linear
-reference). Settled, the free end deflects as under the water's hydrostatic pressure rho_f g (H - z) on its wet
-face: the answer of config/antoci_gate_loaded.yaml (the same gate under that pressure directly) and of plane-strain
-FE of the free length (answers/fe_reference.py). The three together separate the load transfer (coupled against
-loaded) from the gate's bending with 3-4 particles through it (loaded against FE).
+The third of the gate's verification cases. Antoci et al. 2007's rubber gate (config/antoci_gate.yaml) with the gap
+under it closed (the free end stands on the floor, so no water passes) and gravity reduced to 1 m/s^2, so the water at
+rest pushes the free end about 5 % of the gate's length (3.9 mm against FE; 38 mm at 9.81, far beyond a linear
+reference). Settled, the free end deflects as under the water's hydrostatic pressure rho_f g (H - z) on its wet face:
+the answer of config/antoci_gate_loaded.yaml (the same gate under that pressure directly) and of plane-strain FE of the
+free length (answers/fe_reference.py). The three together separate the load transfer (coupled against loaded) from the
+gate's bending with 3-4 particles through it (loaded against FE).
 
 Settling, as the hydrostatic plate's: the gate's mass-proportional damping (`damping_ratio` of its first dry
 mode's critical damping) and the water's velocity relaxation at 2 zeta omega_b of the column's breathing mode
@@ -20,8 +20,8 @@ of its deflection: judged on its mean over the last half of the run, and on the 
 against the exact hydrostatic force.
 
 `water_start: compressed` builds the water as the hydrostatic plate does by default (tank.compress_column): at
-rest from the start, the tank's walls beside it level with it. The gate is not compressed: it is the solid, whose
-lattice is its unstressed shape.
+rest from the start, the tank's walls level with it (its file's compressed_walls: all). The gate is not compressed:
+it is the solid, whose lattice is its unstressed shape.
 """
 from .. import tank
 from . import Case, gate

@@ -149,8 +149,8 @@ def water_surface_z(values):
 
 def hydrostatic_gate_load(level, values):
     """The x force [N] of water at rest up to z = `level` on the wet face of the straight gate's free length (from
-    its clearance up to the clamp), rho_f g W (H (top - c) - (top^2 - c^2) / 2) with top = H clipped to [c, c + L]; exact for
-    the gate at rest, and the load of the current level for a moving one."""
+    its clearance up to the clamp), rho_f g W (H (top - c) - (top^2 - c^2) / 2) with top = H clipped to [c, c + L];
+    exact for the gate at rest, and the load of the current level for a moving one."""
     geometry = effective_geometry(values)
     length, width = geometry["gate_free_length_m"], geometry["span_m"]
     clearance = geometry["gate_clearance_m"]
