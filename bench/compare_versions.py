@@ -1,7 +1,8 @@
 """Step a scene with this checkout's simulator and with another commit's, in one process: are the results the same
 to the bit, and which is faster?
 
-    python -m bench.compare_versions REF SCENE [--steps N] [--rounds R] [--set KEY=VALUE ...]
+    python -m bench.compare_versions REF SCENE [SCENE ...] [--steps N] [--rounds R] [--set KEY=VALUE ...]
+    python -m bench.compare_versions REF --all --rounds 0      (every scene and scheme of SUITE, bits only)
 
 REF is any git commit (e.g. HEAD~3). Its `sph_fsi_core` and `config/` are exported with `git archive` into a temporary
 directory as the package `ref_core`, so both versions import side by side. Both simulations are built from the same
@@ -89,66 +90,102 @@ def particle_steps(sim):
     return n + (sim.fluid.count * steps("fluid_phase", "fluid_steps") if sim.fluid is not None else 0)
 
 
+# Every built-in scene and example, and the schemes and models a scene can switch to, each at settings small enough
+# for a few outer steps (`--all`): (scene, overrides). A refactor keeps every one the same to the bit.
+SUITE = (
+    ("cantilever", []), ("cantilever", ["solid.scheme=gray2001"]), ("cantilever", ["solid.scheme=quadratic_plain"]),
+    ("cantilever", ["solid.scheme=quadratic_plain_artificial_stress"]),
+    ("cantilever", ["solid.velocity_gradient=linear", "solid.scheme=gray2001"]),
+    ("cantilever_loaded", []), ("clamped_plate", []), ("hydrostatic", []), ("hydrostatic", ["fluid.settle_time=0.01"]),
+    ("dam_break", []), ("lobovsky_dam_break", ["numerics.spacing=0.03", "fluid.settle_time=0.02"]),
+    ("spheric2_dam_break", ["numerics.spacing=0.055", "fluid.settle_time=0.02", "output.timeseries_interval=0.005"]),
+    ("elastic_gate", []), ("elastic_gate", ["coupling.model=seed"]),
+    ("elastic_gate", ["solid.scheme=gray2001", "numerics.spacing=0.002"]),
+    ("elastic_gate", ["fluid.settle_time=0.005", "coupling.relaxation=0.5"]),
+    ("antoci_gate", ["numerics.spacing=0.0016666666666667"]), ("antoci_gate_static", []), ("antoci_gate_loaded", []),
+    ("hydrostatic_plate", []), ("config/examples/cantilever_geometry.yaml", []),
+    ("config/examples/cantilever_stl.yaml", []), ("config/examples/hydrostatic_geometry.yaml", []),
+    ("config/examples/spheric2_elastic_fin.yaml", ["output.timeseries_interval=0.002"]),
+)
+
+
+def compare(versions_to_load, scene_name, overrides, steps, rounds):
+    """Both versions of one scene: the same to the bit after `steps` outer steps? Then `rounds` timed ones each,
+    alternating. Returns whether they are the same."""
+    versions = {}
+    for name, package, cache in versions_to_load:
+        scene = import_version(package, "scene", cache)
+        simulation = import_version(package, "simulation", cache)
+        spec = scene.load_scene(scene_name, overrides + ["output.snapshot_interval=0"])
+        versions[name] = simulation.Simulation(spec)
+    rows = {name: [] for name in versions}
+    for name, sim in versions.items():
+        for _ in range(steps):
+            sim.step()
+            rows[name].append(sim.sample())
+    (ref_name, ref_sim), (new_name, new_sim) = versions.items()
+    a = {**state(ref_sim), **sample_columns(rows[ref_name])}
+    b = {**state(new_sim), **sample_columns(rows[new_name])}
+    same = set(a) == set(b)
+    if not same:
+        print(f"compared arrays differ: only in {ref_name}: {sorted(set(a) - set(b))}; only in {new_name}: "
+              f"{sorted(set(b) - set(a))}")
+    for key in sorted(set(a) & set(b)):
+        if a[key].shape != b[key].shape:
+            print(f"{key}: not compared, shapes {a[key].shape} and {b[key].shape}")
+            continue
+        if np.array_equal(a[key], b[key], equal_nan=True):
+            if rounds:
+                print(f"{key}: the same to the bit")
+        else:
+            same = False
+            print(f"{key}: differs by up to {np.abs(a[key] - b[key]).max():.3e} (values up to "
+                  f"{np.abs(a[key]).max():.3e})")
+    label = " ".join([scene_name] + overrides)
+    print(f"{label}: {'the same to the bit' if same else 'NOT the same'} after {steps} outer steps "
+          f"({len(a)} arrays and time-series columns)", flush=True)
+    if rounds == 0:
+        return same
+    rates = {name: [] for name in versions}
+    simulated = {name: [] for name in versions}
+    for _ in range(rounds):
+        for name, sim in versions.items():
+            work, t0, time0 = particle_steps(sim), time.perf_counter(), sim.time
+            sim.step()
+            wall = time.perf_counter() - t0
+            rates[name].append((particle_steps(sim) - work) / wall)
+            simulated[name].append((sim.time - time0) / wall)
+    medians = {name: float(np.median(r)) for name, r in rates.items()}
+    speeds = {name: float(np.median(r)) for name, r in simulated.items()}
+    for name, r in medians.items():
+        print(f"{name}: {r / 1e6:.3f} M particle-steps/s, {speeds[name]:.4g} simulated s per wall s (medians "
+              f"of {rounds} outer steps)")
+    print(f"speed-up of this checkout over {ref_name}: {medians[new_name] / medians[ref_name]:.2f}x in "
+          f"particle-steps, {speeds[new_name] / speeds[ref_name]:.2f}x in simulated time")
+    return same
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("ref")
-    parser.add_argument("scene")
+    parser.add_argument("scenes", nargs="*", help="scene names or files (each with the --set overrides)")
+    parser.add_argument("--all", action="store_true", help="every scene and scheme of SUITE, with its overrides")
     parser.add_argument("--steps", type=int, default=5, help="outer steps before the comparison")
     parser.add_argument("--rounds", type=int, default=6, help="timed outer steps per version after it")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
     args = parser.parse_args(argv)
+    cases = list(SUITE) if args.all else [(scene, args.overrides) for scene in args.scenes]
+    if not cases:
+        parser.error("name a scene, or --all")
     with tempfile.TemporaryDirectory() as tmp:
         sys.path.insert(0, str(export(args.ref, Path(tmp))))
-        versions = {}
         versions_to_load = ((args.ref, "ref_core", Path(tmp) / "numba"), ("this checkout", "sph_fsi_core", None))
-        for name, package, cache in versions_to_load:
-            scene = import_version(package, "scene", cache)
-            simulation = import_version(package, "simulation", cache)
-            spec = scene.load_scene(args.scene, args.overrides + ["output.snapshot_interval=0"])
-            versions[name] = simulation.Simulation(spec)
-        rows = {name: [] for name in versions}
-        for name, sim in versions.items():
-            for _ in range(args.steps):
-                sim.step()
-                rows[name].append(sim.sample())
-        (ref_name, ref_sim), (new_name, new_sim) = versions.items()
-        a = {**state(ref_sim), **sample_columns(rows[ref_name])}
-        b = {**state(new_sim), **sample_columns(rows[new_name])}
-        same = set(a) == set(b)
-        if not same:
-            print(f"compared arrays differ: only in {ref_name}: {sorted(set(a) - set(b))}; only in {new_name}: "
-                  f"{sorted(set(b) - set(a))}")
-        for key in sorted(set(a) & set(b)):
-            if a[key].shape != b[key].shape:
-                print(f"{key}: not compared, shapes {a[key].shape} and {b[key].shape}")
-                continue
-            if np.array_equal(a[key], b[key], equal_nan=True):
-                print(f"{key}: the same to the bit")
-            else:
-                same = False
-                print(f"{key}: differs by up to {np.abs(a[key] - b[key]).max():.3e} (values up to "
-                      f"{np.abs(a[key]).max():.3e})")
-        print(f"{args.scene}: {'the same to the bit' if same else 'NOT the same'} after {args.steps} outer steps "
-              f"({len(a)} arrays and time-series columns)")
-        if args.rounds == 0:
-            return 0 if same else 1
-        rates = {name: [] for name in versions}
-        simulated = {name: [] for name in versions}
-        for _ in range(args.rounds):
-            for name, sim in versions.items():
-                work, t0, time0 = particle_steps(sim), time.perf_counter(), sim.time
-                sim.step()
-                wall = time.perf_counter() - t0
-                rates[name].append((particle_steps(sim) - work) / wall)
-                simulated[name].append((sim.time - time0) / wall)
-        medians = {name: float(np.median(r)) for name, r in rates.items()}
-        speeds = {name: float(np.median(r)) for name, r in simulated.items()}
-        for name, r in medians.items():
-            print(f"{name}: {r / 1e6:.3f} M particle-steps/s, {speeds[name]:.4g} simulated s per wall s (medians "
-                  f"of {args.rounds} outer steps)")
-        print(f"speed-up of this checkout over {ref_name}: {medians[new_name] / medians[ref_name]:.2f}x in "
-              f"particle-steps, {speeds[new_name] / speeds[ref_name]:.2f}x in simulated time")
-    return 0 if same else 1
+        different = [" ".join([scene] + overrides) for scene, overrides in cases
+                     if not compare(versions_to_load, scene, list(overrides), args.steps, args.rounds)]
+    if len(cases) > 1:
+        print(f"{len(cases) - len(different)} of {len(cases)} the same to the bit"
+              + (f"; not: {'; '.join(different)}" if different else ""))
+    return 1 if different else 0
 
 
 if __name__ == "__main__":

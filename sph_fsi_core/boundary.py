@@ -12,38 +12,25 @@ part, in this order:
 
 `Boundary` hands the rows out by name: a block by its kind, and a geometry scene's part by its own name
 (scenes/built.Built.parts), so the force probes and the coupling find their rows without counting offsets. The
-parts that move write their own rows: `move_parts(t)` (a lifted gate's prescribed motion) and `follow_solid()` (the
-solid where it is now); `without_gates()` is the boundary from t = 0 when the gates are gone at once.
+parts that move write their own rows: `move_parts(t)` (the prescribed motions, motion.py: a lifted gate's) and
+`follow_solid()` (the solid where it is now); `without_gates()` is the boundary from t = 0 when the gates are gone
+at once.
 """
 import numpy as np
 
+from .motion import Linear
+
 KINDS = ("walls", "gate", "solid")
-
-
-class Lift:
-    """A gate lifted from t = 0 at a constant `velocity` (m/s) until it has travelled `travel` (m), then held: its
-    rows' positions at time t are start + velocity min(|v| t, travel) / |v|."""
-
-    def __init__(self, start, velocity, travel):
-        self.start = np.array(start, dtype=np.float64)
-        self.velocity = np.asarray(velocity, dtype=np.float64)
-        self.travel = float(travel)
-        self.speed = float(np.sqrt(self.velocity @ self.velocity))
-
-    def positions(self, t):
-        """(positions at time t, whether the lift is done: the gate has reached its travel)."""
-        moved = min(t * self.speed, self.travel)
-        return self.start + self.velocity * (moved / self.speed), moved >= self.travel
 
 
 class Boundary:
     """The water's wall particles: `pos` (M, 3) m and `mass` (M,) kg, in blocks by kind (module docstring), with the
     rows of each block and of each named part. Construct with `Boundary.of`."""
 
-    def __init__(self, blocks, parts, rho0, lift=None, solid=None):
+    def __init__(self, blocks, parts, rho0, motions=(), solid=None):
         """blocks: [(kind, pos, mass)] in KINDS' order; parts: {name: (kind, indices within that kind's block)};
-        lift: the gate block's Lift, or None; solid: the state.SolidState whose positions the solid block
-        follows."""
+        motions: [(rows, positions as built, motion.Motion)] of the parts that move; solid: the state.SolidState
+        whose positions the solid block follows."""
         self.rho0 = float(rho0)
         self.pos = np.ascontiguousarray(np.concatenate([p for _, p, _ in blocks])) if blocks else np.zeros((0, 3))
         self.mass = np.concatenate([m for _, _, m in blocks]) if blocks else np.zeros(0)
@@ -53,7 +40,7 @@ class Boundary:
             self._blocks[kind] = slice(first, first + len(pos))
             first += len(pos)
         self._parts = {name: (kind, np.asarray(indices)) for name, (kind, indices) in parts.items()}
-        self.lift = lift
+        self.motions = list(motions)
         self.solid = solid
 
     @classmethod
@@ -64,20 +51,22 @@ class Boundary:
         blocks = []
         if built.walls is not None:
             blocks.append(("walls", built.walls.pos, built.walls.mass))
-        lift = None
+        motions = []
         if gates and built.release_walls is not None:
+            first = len(built.walls.pos) if built.walls is not None else 0
             blocks.append(("gate", built.release_walls.pos, built.release_walls.mass))
-            if built.release_velocity is not None:
-                lift = Lift(built.release_walls.pos, built.release_velocity, built.release_travel)
+            if built.release_velocity is not None:      # a lifted gate
+                motions.append((slice(first, first + len(built.release_walls.pos)), built.release_walls.pos.copy(),
+                                Linear(built.release_velocity, 0.0, built.release_travel)))
         if solid is not None:
             blocks.append(("solid", solid.pos, solid_mass))
         parts = {name: (phase, idx) for name, (phase, idx) in built.parts.items() if phase != "fluid"}
-        return cls(blocks, parts, rho0, lift, solid)
+        return cls(blocks, parts, rho0, motions, solid)
 
     def without_gates(self):
         """The same boundary with its gates gone (released at t = 0): new arrays, the other blocks as they are."""
         blocks = [(kind, self.pos[rows], self.mass[rows]) for kind, rows in self._blocks.items() if kind != "gate"]
-        return Boundary(blocks, self._parts, self.rho0, None, self.solid)
+        return Boundary(blocks, self._parts, self.rho0, (), self.solid)
 
     @property
     def count(self):
@@ -102,13 +91,13 @@ class Boundary:
         return self._blocks[kind].start + indices
 
     def move_parts(self, t):
-        """The prescribed motions to time t (a lifted gate's); True if some rows moved."""
-        if self.lift is None:
-            return False
-        self.pos[self._blocks["gate"]], done = self.lift.positions(t)
-        if done:
-            self.lift = None
-        return True
+        """The prescribed motions to time t; True if some rows moved. A motion that has reached its end (a lifted
+        gate at its travel) leaves its rows there and is dropped."""
+        for rows, built, motion in self.motions:
+            self.pos[rows] = motion.positions(built, t)
+        moved = bool(self.motions)
+        self.motions = [m for m in self.motions if not (isinstance(m[2], Linear) and m[2].done(t))]
+        return moved
 
     def follow_solid(self):
         """The solid block where the solid is now; True if the boundary has one (its rows may have moved)."""

@@ -18,7 +18,7 @@ REPO = Path(__file__).resolve().parents[1]
 # sph_fsi_core's rooms (its subpackages and top-level modules) floor by floor, the ground first
 FLOORS = (
     ("errors",),                                                 # the user's errors
-    ("numerics", "state", "diagnostics"),                        # shared numerics, the particle arrays
+    ("numerics", "state", "diagnostics", "motion"),              # shared numerics, the particle arrays, motions
     ("solid", "fluid", "coupling", "boundary", "probes", "vtk_snapshots"),   # the phases and what reads them
     ("schema", "jit_cache"),                                     # every key; the kernels' cache
     ("geometry", "memory_guard", "checkpoint"),                  # shapes on the lattice, guards, checkpoints
