@@ -46,12 +46,12 @@ def renumbered(builder, order):
 
 def simulation(order):
     spec = load_scene("dam_break", CASES[("dam_break", "1e5")] + ["output.snapshot_interval=0"])
-    builder = BUILDERS["dam_break"]
-    BUILDERS["dam_break"] = renumbered(builder, order)
+    builder = BUILDERS[spec.builder]
+    BUILDERS[spec.builder] = renumbered(builder, order)
     try:
         return Simulation(spec)
     finally:
-        BUILDERS["dam_break"] = builder
+        BUILDERS[spec.builder] = builder
 
 
 def main():

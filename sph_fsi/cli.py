@@ -46,10 +46,16 @@ def _cmd_keys(args):
         return 0
     from sph_fsi_core.geometry.parts import REQUIRED, reference
     spec = load_scene(args.scene)
+    written = spec.expressions or {}
     for key, p in sorted(spec.schema.params.items()):
         value = spec.values[key]
         when = "at reset" if p.rebuild else "live"
-        print(f"{key:40s} = {value!s:14s} [{p.unit or '-'}] {p.range_text()}; {when}. {p.description}")
+        formula = f" (the file's {_expression_text(written[key])})" if key in written else ""
+        print(f"{key:40s} = {value!s:14s} [{p.unit or '-'}] {p.range_text()}; {when}{formula}. {p.description}")
+    if spec.derived:
+        print("# the scene's derived quantities (its file's expressions in its parameters; not keys):")
+        for key, (text, unit, description, value) in spec.derived.items():
+            print(f"{key:40s} = {value!s:14s} [{unit or '-'}] = {text}. {description}")
     print("# the keys of a geometry scene's parts, probes and judges (scene.builder: geometry), by role, shape and "
           "kind:")
     for _, entries, params in reference():
@@ -57,6 +63,11 @@ def _cmd_keys(args):
             value = "required" if p.default is REQUIRED else p.default
             print(f"{p.key:40s} = {value!s:14s} [{p.unit or '-'}] {p.range_text()}; {entries}. {p.description}")
     return 0
+
+
+def _expression_text(raw):
+    """A key's value as its scene file wrote it (expressions in its parameters), as text."""
+    return "[" + ", ".join(str(v) for v in raw) + "]" if isinstance(raw, (list, tuple)) else str(raw)
 
 
 def _check_out_dir(path):

@@ -16,6 +16,8 @@ from pathlib import Path
 import yaml
 
 from . import memory_guard
+from .geometry.declared import declarations, is_declaration, overlaid, value_of
+from .geometry.expressions import ExpressionError, evaluate, namespace, refusal
 from .geometry.parts import LISTS, NAME_RE, REQUIRED, check_required, reference
 from .schema import COMMON, PHASE_NAMES, SECTIONS_BY_PHASE, Schema, SceneError, check_combinations
 from .scenes import BUILDERS, DEFAULT_SCENE, build_scene
@@ -105,7 +107,7 @@ def _flatten(tree, origin):
         if not isinstance(body, dict):
             raise SceneError(f"{section}: expected a mapping of keys, got {type(body).__name__}")
         for key, value in body.items():
-            if isinstance(value, dict):
+            if isinstance(value, dict) and section != "geometry":   # geometry/declared.py: a declaration
                 raise SceneError(f"{section}.{key}: nested sections are not allowed")
             flat[f"{section}.{key}"] = value
     return flat
@@ -198,7 +200,7 @@ class SceneSpec:
         file_keys = self.file_keys - set(overrides)
         try:
             check_entry_names(self._explicit, overrides)
-            spec = _resolve(self.builder, {**self._explicit, **overrides}, self.source)
+            spec = _resolve(self.builder, overlaid(self._explicit, overrides), self.source)
         except SceneError as exc:
             raise naming_the_file(exc, self.source, file_keys) from None
         spec.file_keys = file_keys
@@ -214,6 +216,10 @@ class SceneSpec:
 
     _explicit: dict = None
     file_keys: frozenset = frozenset()     # the keys the scene file set that no override replaced
+    # a geometry scene's keys written as expressions {key: as written}, and its derived quantities {key: (expression,
+    # unit, description, value)} (geometry/declared.py)
+    expressions: dict = None
+    derived: dict = None
 
 
 def _resolve(builder_name, flat, origin):
@@ -221,25 +227,42 @@ def _resolve(builder_name, flat, origin):
         raise SceneError(f"scene.builder = {builder_name!r}: unknown; allowed: one of "
                          + ", ".join(repr(b) for b in sorted(BUILDERS)))
     builder = BUILDERS[builder_name]
+    own = [p.key.split(".", 1)[1] for p in builder.geometry if p.section == "geometry"]
+    declared, derived = [], {}
+    if builder.expressions:      # geometry/declared.py: the scene's own parameters and derived quantities
+        declared, derived = declarations(flat, own)
+    else:
+        found = next((k for k, v in flat.items() if k.startswith("geometry.") and is_declaration(v)), None)
+        if found:
+            raise SceneError(f"{found}: a declared parameter belongs to a geometry scene (scene.builder: geometry); "
+                             f"allowed: this builder's own keys")
     # a geometry scene's phases and keys follow from its part, probe and judge lists (geometry/parts.py)
     phases = builder.phases_of(flat) if builder.phases_of is not None else builder.phases
     listed = builder.list_params(flat) if builder.list_params is not None else []
-    schema = Schema.for_builder(phases, builder.geometry + listed)
+    schema = Schema.for_builder(phases, builder.geometry + listed + declared)
     all_sections = ({p.section for params in SECTIONS_BY_PHASE.values() for p in params} | {"geometry"}
                     | set(PHASE_NAMES) | set(LISTS))
     values = {k: p.default for k, p in schema.params.items()}
     values.update(builder.defaults)
-    explicit = {}
+    explicit, deferred = {}, {}
     absent = builder.absent_sections
     for key, value in flat.items():
+        if key in derived:
+            continue
         param = schema.check_key(key, all_sections, absent)
-        explicit[key] = param.coerce(value)
+        raw = value_of(value) if is_declaration(value) else value
+        if builder.expressions and _takes_expressions(param, own) and _is_expression(param, raw):
+            deferred[key] = raw
+        else:
+            explicit[key] = param.coerce(raw)
     if "solid.scheme" in values:
         values.update(scheme_values(explicit.get("solid.scheme", values["solid.scheme"])))
     values.update(explicit)
     values["scene.builder"] = builder_name
     if not values["scene.name"]:
         values["scene.name"] = builder_name
+    if builder.expressions:
+        _evaluate(values, schema, declared, derived, deferred)
     check_required(values)
     if builder.resolve_files is not None:
         builder.resolve_files(values, origin)
@@ -248,7 +271,58 @@ def _resolve(builder_name, flat, origin):
     memory_guard.check(builder, values)
     spec = SceneSpec(builder_name, schema, values, origin, tuple(phases))
     spec._explicit = dict(flat)
+    spec.expressions = {k: deferred[k] for k in deferred}
+    spec.derived = {k: (text, unit, description, values[k]) for k, (text, unit, description) in derived.items()}
     return spec
+
+
+def _takes_expressions(param, own):
+    """Whether a key's value may be an expression (geometry/expressions.py): a part's, probe's or judge's key, and
+    the geometry builder's own keys; not a declared parameter (it is the input) nor another section's key."""
+    section, _, name = param.key.partition(".")
+    return section in LISTS or (section == "geometry" and name in own)
+
+
+def _is_expression(param, raw):
+    """A number or a switch written as text, a choice that is not one of them, or text that starts with '='."""
+    if param.kind == "vec3":
+        return isinstance(raw, (list, tuple)) and any(isinstance(v, str) for v in raw)
+    if param.kind == "str":
+        return isinstance(raw, str) and (raw.startswith("=") or bool(param.choices) and raw not in param.choices)
+    return isinstance(raw, str)
+
+
+def _evaluate(values, schema, declared, derived, deferred):
+    """In place: the derived quantities (in file order, each in the parameters and those before it), then every
+    expression of `deferred` {key: raw value}, each coerced and checked as its key (SceneError naming the key and
+    its expression)."""
+    names = {p.key.split(".", 1)[1]: values[p.key] for p in declared}
+    for key, (text, _, _) in derived.items():
+        try:
+            values[key] = names[key.split(".", 1)[1]] = evaluate(text, namespace(values, names))
+        except ExpressionError as exc:
+            raise refusal(key, text, exc) from None
+    space = namespace(values, names)
+    for key, raw in deferred.items():
+        param = schema.params[key]
+        items = raw if param.kind == "vec3" else [raw]
+        out = []
+        for item in items:
+            if not isinstance(item, str):
+                out.append(item)
+                continue
+            text = item[1:] if param.kind == "str" and item.startswith("=") else item
+            if param.choices and text.strip().isidentifier() and text.strip() not in space.names:
+                param.coerce(item)          # a word that names nothing: a misspelt choice, refused as one
+            try:
+                out.append(evaluate(text, space))
+            except ExpressionError as exc:
+                raise refusal(key, item, exc) from None
+        result = out if param.kind == "vec3" else out[0]
+        try:
+            values[key] = param.coerce(result)
+        except SceneError as exc:
+            raise SceneError(str(exc).replace(f"{key} = ", f"{key} = {raw!r} = ", 1)) from None
 
 
 def load_scene(scene=None, overrides=()):
@@ -282,10 +356,10 @@ def load_scene(scene=None, overrides=()):
     from_file = set(flat)
     parsed = dict(parse_override(item) if isinstance(item, str) else item for item in overrides)
     check_entry_names(flat, parsed)
-    flat.update(parsed)
     overridden = set(parsed)
     try:
-        builder = flat.get("scene.builder", path.stem)
+        flat = overlaid(flat, parsed)
+        builder = flat.get("scene.builder", path.stem if path.stem in BUILDERS else "geometry")
         if not isinstance(builder, str):
             raise SceneError(f"scene.builder = {builder!r}: expected a string naming a builder")
         spec = _resolve(builder, flat, str(path))

@@ -22,7 +22,7 @@ from .jit_cache import start_parallel_runtime
 from .numerics.kernels import lattice_density_scale
 from .probes import ProbeSet, probe_columns
 from .scene import SceneSpec
-from .scenes import BUILDERS, build_scene
+from .scenes import build_scene, interface
 from .solid.phase import SolidPhase
 
 __all__ = ["Simulation", "Diverged"]
@@ -33,7 +33,7 @@ class Simulation:
 
     def __init__(self, spec: SceneSpec):
         self.spec = spec
-        self.builder = BUILDERS[spec.builder]
+        self.builder = interface(spec.builder, spec.values)
         self._pending = {}
         start_parallel_runtime()
         self._build()
@@ -44,7 +44,7 @@ class Simulation:
 
     def __setstate__(self, state):
         self.__dict__.update(state)
-        self.builder = BUILDERS[state["builder"]]
+        self.builder = interface(state["builder"], self.spec.values)
         start_parallel_runtime()     # a restored run's first kernel is a cached caller of parallel ones
 
     # ---- construction -------------------------------------------------------------------------------------

@@ -70,7 +70,8 @@ class FluidState:
 
     @classmethod
     def at_rest(cls, pos, density, spacing, mass_scale=1.0):
-        """At rest on a lattice of spacing dp: mass rho0 dp^3 times `mass_scale` (see scenes/tank.py)."""
+        """At rest on a lattice of spacing dp: mass rho0 dp^3 times `mass_scale` (numerics.kernels
+        lattice_density_scale)."""
         n = len(pos)
         return cls(pos=np.ascontiguousarray(pos, dtype=np.float64), vel=np.zeros((n, 3)),
                    rho=np.full(n, float(density)), pressure=np.zeros(n),

@@ -1,6 +1,7 @@
-"""The cantilever under a dead load (scenes/cantilever_loaded.py) and its exact reference, the elastica
-(answers/references.py: elastica_tip): the shooting solution against Bisshopp & Drucker's tabulated values and
-the linear limits; the load the builder applies, in total and where; the quick rung settles within its bound."""
+"""The cantilever under a dead load (config/cantilever_loaded.yaml, scenes/cases/cantilever_loaded.py) and its
+exact reference, the elastica (answers/references.py: elastica_tip): the shooting solution against Bisshopp &
+Drucker's tabulated values and the linear limits; the load the case applies, in total and where; the quick rung
+settles within its bound."""
 import math
 
 import numpy as np
@@ -8,7 +9,7 @@ import pytest
 
 from sph_fsi_core.run import run_scene
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes import cantilever_loaded
+from sph_fsi_core.scenes.cases import cantilever_loaded
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.answers.references import elastica_tip
 

@@ -1,17 +1,19 @@
-"""The clamped plate's set-up (scenes/clamped_plate.py): its particles, the load it carries and its clamps."""
+"""The clamped plate's set-up (config/clamped_plate.yaml, scenes/cases/clamped_plate.py): its particles, the load it
+carries and its clamps."""
 import math
 
 import numpy as np
 import pytest
 
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes import clamped_plate
+from sph_fsi_core.scenes import BUILDERS
+from sph_fsi_core.scenes.cases import clamped_plate
 from sph_fsi_core.simulation import Simulation
 
 
 def built(*overrides):
     spec = load_scene("clamped_plate", list(overrides))
-    return spec, clamped_plate.build(spec.values)
+    return spec, BUILDERS[spec.builder].build(spec.values)
 
 
 def test_lattice_clamps_and_probe():

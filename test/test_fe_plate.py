@@ -68,7 +68,7 @@ def test_cantilever_strip_against_beam_theory():
 
 
 def test_cantilever_strip_own_weight_across_is_a_pressure_on_its_top():
-    """A horizontal cantilever's own weight (body_force_across = -rho g, scenes/clamped_plate.py with
+    """A horizontal cantilever's own weight (body_force_across = -rho g, config/clamped_plate.yaml with
     geometry.supports = clamped_free) bends it as the same load per area as a pressure would: rho g t L^4 / (8 D)
     (Euler-Bernoulli, within 1 % at L/t = 30), the two add, and a body force along +z (towards the pressed face's
     outside) lifts the strip."""

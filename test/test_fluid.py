@@ -11,10 +11,16 @@ from sph_fsi_core.numerics.periodic import xz_periodic_marker
 from sph_fsi_core.fluid.solver import FluidSolver
 from sph_fsi_core.numerics.kernels import cubic_spline_w, lattice_density_scale, lattice_kernel_sum
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes import tank
 from sph_fsi_core.schema import SceneError
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.state import FluidState
+
+
+def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
+    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest."""
+    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+
 
 DP = 1.0e-3
 RATIO = 1.3
@@ -23,7 +29,7 @@ H = RATIO * DP
 
 def _periodic_block(n, scale=1.0, jitter=0.0, seed=0):
     """An n^3 lattice, periodic on all axes (period n dp), mass rho0 dp^3 / lattice sum; positions scaled/jittered."""
-    pos = tank.lattice(n, n, n, DP) * scale
+    pos = lattice(n, n, n, DP) * scale
     if jitter:
         pos += np.random.default_rng(seed).normal(0.0, jitter * DP, pos.shape)
     fluid = FluidState.at_rest(pos, 1000.0, DP, mass_scale=lattice_density_scale(RATIO))
@@ -181,9 +187,9 @@ def test_water_that_splashes_out_is_held_still_and_counted():
     held = sim.fluid.pos[17].copy()
     assert held[2] == sim.domain_hi[2] and np.all(sim.fluid.vel[17] == 0.0)
     assert "water began to leave the domain box" in sim.warnings[-1] and "1 particle(s) over its +z face (e.g. " \
-        "fluid particle 17)" in sim.warnings[-1]
+        "fluid particle 17, nearest parts.tank)" in sim.warnings[-1]
     assert sim.fluid_phase.lost_water.summary() == {"particles": 1, "fraction": 1 / n, "first_time_s": sim.time,
-                                        "faces": {"+z": 1}}
+                                                    "faces": {"+z": 1}, "nearest_walls": {"tank": 1}}
     for _ in range(3):
         sim.step()
     assert np.array_equal(sim.fluid.pos[17], held) and np.all(sim.fluid.vel[17] == 0.0)
@@ -267,21 +273,19 @@ def test_the_tank_relaxes_its_water_only_when_asked():
     """geometry.water_damping_ratio (default 0: the tank's water is left alone) relaxes the water's velocities at
     2 zeta omega_b, omega_b of the column's breathing mode (tank.breathing_period: 4 H / sqrt(g H / tolerance)), as
     hydrostatic_plate does: the same column on a rigid floor."""
-    from sph_fsi_core.scenes import hydrostatic
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005"])
-    assert hydrostatic.build(spec.values).fluid_damping_rate == 0.0
+    assert spec.build()[0].fluid_damping_rate == 0.0
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_damping_ratio=0.5"])
     period = 4 * 0.1 / math.sqrt(9.81 * 0.1 / 0.01)
-    assert hydrostatic.build(spec.values).fluid_damping_rate == pytest.approx(2.0 * 0.5 * 2.0 * math.pi / period)
+    assert spec.build()[0].fluid_damping_rate == pytest.approx(2.0 * 0.5 * 2.0 * math.pi / period)
 
 
 def test_the_tank_builds_its_water_compressed_with_its_end_walls_in_register():
     """geometry.water_start = compressed: the water's layers at depth d spaced dp (1 - c d / H), c the tolerance;
     the end walls' layers at the water's heights (in register), the floor and the water's mass as on the lattice."""
-    from sph_fsi_core.scenes import hydrostatic
-    flat = hydrostatic.build(load_scene("hydrostatic", ["numerics.spacing=0.005"]).values)
+    flat = load_scene("hydrostatic", ["numerics.spacing=0.005"]).build()[0]
     spec = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.water_start=compressed"])
-    b = hydrostatic.build(spec.values)
+    b = spec.build()[0]
     dp, height, tol = 0.005, spec["geometry.depth"], spec["fluid.density_tolerance"]
     z0 = np.unique(flat.fluid.pos[:, 2])
     z = np.unique(np.round(b.fluid.pos[:, 2], 12))

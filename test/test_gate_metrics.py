@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes.antoci_gate import PEAK_SMOOTHING_S, evaluate, window_mean
+from sph_fsi_core.scenes.cases.antoci_gate import PEAK_SMOOTHING_S, evaluate, window_mean
 
 
 def test_window_mean_keeps_a_line_and_removes_a_wobble_of_the_windows_period():
@@ -38,7 +38,7 @@ def test_the_load_against_the_level_behind_the_gate():
     """A column that loses 30 % of its water: the level is 0.7 H0 over the reservoir; the hydrostatic load of a level
     above the gate's free length is rho g W L (H - c - L / 2) (c: the clearance under it); a push of 0.8 of it
     reads 0.8."""
-    from sph_fsi_core.scenes import gate
+    from sph_fsi_core.scenes.cases import gate
     values = load_scene("antoci_gate").values
     geometry = gate.effective_geometry(values)
     length, width, clearance = geometry["gate_free_length_m"], geometry["span_m"], geometry["gate_clearance_m"]
@@ -57,9 +57,9 @@ def test_the_load_against_the_level_behind_the_gate():
 
 
 def test_the_water_levels_of_antocis_gate_read_its_column_at_rest():
-    """scenes/antoci_gate.py's level probes at t = 0: the column's height (whole layers of its 0.14 m) at the back
+    """config/antoci_gate.yaml's level probes at t = 0: the column's height (whole layers of its 0.14 m) at the back
     wall and behind the gate, within a quarter spacing (the surface where the water stops filling half a kernel)."""
-    from sph_fsi_core.scenes import gate
+    from sph_fsi_core.scenes.cases import gate
     from sph_fsi_core.simulation import Simulation
     spec = load_scene("antoci_gate", ["numerics.spacing=0.0025", "solid.scheme=gray2001"])
     readings = Simulation(spec).probe_readings()

@@ -1,4 +1,4 @@
-"""Antoci's gate held static (scenes/antoci_gate_static.py, coupled; scenes/antoci_gate_loaded.py, under the exact
+"""Antoci's gate held static (config/antoci_gate_static.yaml, coupled; config/antoci_gate_loaded.yaml, under the exact
 pressure): the gap closed, the load the water puts on it, the relaxation rates and how a run is judged."""
 import math
 
@@ -6,13 +6,14 @@ import numpy as np
 import pytest
 
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes import antoci_gate_loaded, antoci_gate_static, gate, tank
+from sph_fsi_core.scenes import BUILDERS, tank
+from sph_fsi_core.scenes.cases import antoci_gate_loaded, antoci_gate_static, gate
 
 
 def test_static_gate_stands_on_the_floor_under_reduced_gravity():
     spec = load_scene("antoci_gate_static")
     v = spec.values
-    b = antoci_gate_static.build(v)
+    b = BUILDERS[spec.builder].build(v)
     dp = v["numerics.spacing"]
     assert v["geometry.gate_clearance"] == 0.0 and v["scene.gravity"] == pytest.approx((0.0, 0.0, -1.0))
     moving = b.solid.pos[b.solid.movable]
@@ -30,7 +31,7 @@ def test_loaded_gate_carries_the_hydrostatic_force_of_its_water():
     gate's -x side), none on the clamp."""
     spec = load_scene("antoci_gate_loaded")
     v = antoci_gate_loaded.layout_values(spec.values)
-    b = antoci_gate_loaded.build(spec.values)
+    b = BUILDERS[spec.builder].build(spec.values)
     geometry = gate.effective_geometry(v)
     length, width = geometry["gate_free_length_m"], geometry["span_m"]
     height = gate.water_surface_z(v)
@@ -79,7 +80,8 @@ def test_fe_is_read_where_the_probe_sits():
     """The 'tip' probe is the lowest particle layer, half a spacing above the body's free end: the FE reference is
     read there, which is less than at the end by about the end's slope times dp / 2 (slope 4/3 of the deflection
     over L for a uniform load; a little less under the hydrostatic one, which is smaller near the end)."""
-    v = antoci_gate_loaded.layout_values(load_scene("antoci_gate_loaded").values)
+    spec = load_scene("antoci_gate_loaded")
+    v = antoci_gate_loaded.layout_values(spec.values)
     dp = v["numerics.spacing"]
     length = gate.effective_geometry(v)["gate_free_length_m"]
     ref = gate.static_tip_reference(v, 1000.0, 1.0)
@@ -87,5 +89,5 @@ def test_fe_is_read_where_the_probe_sits():
     drop = 1.0 - ref["fe_tip_deflection_m"] / ref["fe_free_end_deflection_m"]
     assert drop == pytest.approx(4.0 / 3.0 * 0.5 * dp / length, rel=0.15)
     # the probe's particles sit there: their mean height is the free end's plus half a spacing (clearance 0)
-    b = antoci_gate_loaded.build(v)
+    b = BUILDERS[spec.builder].build(spec.values)
     assert b.solid.pos[b.probes[0].indices, 2].mean() == pytest.approx(0.5 * dp, rel=1e-9)

@@ -15,12 +15,23 @@ from sph_fsi_core.geometry.shapes import Shape, rotation_matrix
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.scenes import BUILDERS
 from sph_fsi_core.scenes.built import check_layout
-from sph_fsi_core.scenes.tank import tank_walls
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "config" / "examples"
 PROBES_SCENE = REPO / "test" / "data" / "geometry_probes.yaml"
 geometry = BUILDERS["geometry"]
+
+
+def tank_walls(nx, ny, nz_wall, layers, spacing, periodic_y):
+    """The wall sites of a tank whose inside is nx x ny cells wide and nz_wall high, `layers` thick below and around,
+    as the tank scenes' builder made them before they were scene files (periodic: no side walls), x slowest."""
+    pad_y = 0 if periodic_y else layers
+    ii, jj, kk = np.meshgrid(np.arange(-layers, nx + layers), np.arange(-pad_y, ny + pad_y),
+                             np.arange(-layers, nz_wall), indexing="ij")
+    outside = (ii < 0) | (ii >= nx) | (kk < 0)
+    if not periodic_y:
+        outside |= (jj < 0) | (jj >= ny)
+    return (np.stack([ii[outside], jj[outside], kk[outside]], axis=-1) + 0.5) * spacing
 
 
 def keyed(pos, dp):
@@ -66,7 +77,7 @@ def test_a_mesh_holds_the_sites_its_primitive_holds():
 def test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever():
     box = geometry.build(load_scene(str(EXAMPLES / "cantilever_geometry.yaml")).values)
     stl = geometry.build(load_scene(str(EXAMPLES / "cantilever_stl.yaml")).values)
-    ref = BUILDERS["cantilever"].build(load_scene("cantilever").values)
+    ref = geometry.build(load_scene("cantilever").values)
     assert box.solid.count == stl.solid.count == ref.solid.count == 1056
     assert np.array_equal(box.solid.pos, stl.solid.pos) and np.array_equal(box.solid.vel, stl.solid.vel)
     at = {k: i for i, k in enumerate(map(tuple, np.round(box.solid.pos / 5e-4).astype(np.int64)))}
@@ -80,7 +91,7 @@ def test_the_cantilever_from_a_box_and_from_an_stl_is_the_built_in_cantilever():
 
 def test_the_hydrostatic_tank_from_two_boxes_is_the_built_in_tank():
     built = geometry.build(load_scene(str(EXAMPLES / "hydrostatic_geometry.yaml")).values)
-    ref = BUILDERS["hydrostatic"].build(load_scene("hydrostatic", ["geometry.periodic_y=false"]).values)
+    ref = geometry.build(load_scene("hydrostatic", ["geometry.periodic_y=false"]).values)
     for a, b in ((built.fluid, ref.fluid), (built.walls, ref.walls)):
         assert np.array_equal(a.pos, b.pos) and np.array_equal(a.mass, b.mass)
     assert built.solid is None and built.parts["tank"][0] == "walls"
@@ -139,8 +150,6 @@ def open_stl(tmp_path):
 REFUSED = [
     ({"name": "box", "role": "wall", "shape": "box", "size": [0.06, 0.06, 0.06], "position": [0.3, 0.05, 0.05]},
      "parts.box: overlaps parts.tank at"),
-    ({"name": "plate", "role": "solid", "shape": "box", "size": [0.02, 0.1, 0.1], "position": [0.2, 0.05, 0.05]},
-     "parts.plate: under three particle layers through"),
     ({"name": "fin", "role": "solid", "shape": "mesh", "file": "missing.stl", "position": [0.2, 0.05, 0.05]},
      "parts.fin.file = '.*missing.stl': not found"),
     ({"name": "fin", "role": "solid", "shape": "mesh", "file": "OPEN", "position": [0.2, 0.05, 0.05]},
@@ -375,7 +384,7 @@ def test_the_cantilever_from_an_stl_moves_as_the_built_in_cantilever():
 def test_the_hydrostatic_tank_from_two_boxes_holds_the_built_in_tanks_floor_pressure():
     """0.6 s at 5 mm (the validation ladder's CI rung's spacing and time): the floor pressure (the built-in scene's
     line fit of p(z), over the last 30 %) of the geometry tank within 0.1 % of the built-in closed tank's."""
-    from sph_fsi_core.scenes.hydrostatic import floor_pressure_fit
+    from sph_fsi_core.scenes.cases.hydrostatic import floor_pressure_fit
     from sph_fsi_core.simulation import Simulation
     common = ["numerics.spacing=0.005", "output.snapshot_interval=0"]
 
@@ -406,3 +415,210 @@ def test_a_frequency_is_not_judged_on_less_than_a_period():
     out = evaluate_judges({"time": t, "tip_dz": np.sin(2 * np.pi * 17.4 * t)}, values)
     assert out["judges"]["frequency"]["measured"] == pytest.approx(17.4, rel=1e-3)
     assert out["error"] == pytest.approx(0.18 / 17.58, rel=0.05)
+
+
+# ---- a scene's own parameters, expressions, periodic slabs, clamp holders, numbering ------------------------------
+
+SLAB = {"scene": {"builder": "geometry", "end_time": 0.01, "gravity": [0.0, 0.0, -9.81]},
+        "numerics": {"spacing": 0.01},
+        "geometry": {"width": {"value": 0.2, "unit": "m", "range": "(0, 1]", "description": "The tank's inside"},
+                     "depth": {"value": 0.1, "unit": "m", "range": [0.02, 1.0]},
+                     "layers_across": {"value": 6, "unit": "1", "range": [1, 100]},
+                     "span": {"expression": "layers_across * dp", "unit": "m"},
+                     "period": [0, "span", 0]},
+        "parts": [{"name": "tank", "role": "wall", "shape": "box", "size": ["width", "span", "depth + 0.05"],
+                   "position": ["width / 2", "span / 2", "(depth + 0.05) / 2"], "side": "outside", "open": "+z"},
+                  {"name": "water", "role": "water", "shape": "box", "size": ["width", "span", "depth"],
+                   "position": ["width / 2", "span / 2", "depth / 2"]}]}
+
+
+def test_a_scene_declares_parameters_its_parts_follow(tmp_path):
+    """geometry.<name> with a value is a key like any other (type, range, --set, the node's parameter); the parts'
+    numbers are expressions in it, so one --set moves every part that follows it."""
+    spec = load_scene(scene_file(tmp_path, SLAB))
+    assert spec["geometry.width"] == 0.2 and spec["parts.water.size"] == (0.2, 0.06, 0.1)
+    param = spec.schema.params["geometry.layers_across"]
+    assert param.kind == "int" and (param.low, param.high) == (1, 100) and param.unit == "1"
+    assert spec.schema.params["geometry.width"].range_text() == "in (0, 1] m"
+    assert "geometry.span" not in spec.schema.params and spec["geometry.span"] == pytest.approx(0.06)   # derived
+    wider = spec.with_overrides({"geometry.width": 0.3, "geometry.layers_across": 8})
+    assert wider["parts.water.size"] == pytest.approx((0.3, 0.08, 0.1)) and wider["geometry.period"][1] == 0.08
+    assert wider.schema.params["geometry.layers_across"].kind == "int"     # the declaration's type, not the value's
+    built = geometry.build(wider.values)
+    assert built.fluid.count == 30 * 8 * 10
+    with pytest.raises(SceneError, match=r"geometry.width = 2.0: out of range; allowed: in \(0, 1\] m"):
+        spec.with_overrides({"geometry.width": 2.0})
+    with pytest.raises(SceneError, match="geometry.span = 0.1: a quantity the scene derives .*; allowed: set the "
+                                         "parameters it follows from"):
+        spec.with_overrides({"geometry.span": 0.1})
+
+
+def test_an_expression_is_evaluated_safely_and_refused_by_name(tmp_path):
+    from sph_fsi_core.geometry.expressions import evaluate, namespace
+    space = namespace({"numerics.spacing": 0.01, "numerics.smoothing_ratio": 1.3, "solid.clamp": "fixed",
+                       "scene.gravity": (0.0, 0.0, -9.81)}, {"n": 4, "on": True})
+    dp = 0.01
+    assert evaluate("round(0.3 / dp) * dp + 2.0 * numerics.smoothing_ratio * dp", space) == \
+        round(0.3 / dp) * dp + 2.0 * 1.3 * dp                      # Python's arithmetic, step by step: the same bits
+    assert evaluate("n if solid.clamp == 'fixed' else 0", space) == 4 and evaluate("-scene.gravity[2]", space) == 9.81
+    assert evaluate("max(ceil(2.6 - 1e-9), 2) * h / dp", space) == pytest.approx(3 * 1.3)
+    assert evaluate("not on or n > 3", space) is True
+    for text, why in (("__import__('os')", "not allowed"), ("n.__class__", "unknown key 'n.__class__'"),
+                      ("open('x')", "not allowed"), ("lambda: 1", "not allowed"), ("[1, 2][0]", "not allowed"),
+                      ("nn * 2", "unknown name 'nn' .did you mean 'n'"), ("numerics.spaceing", "unknown key"),
+                      ("2 ** 10000", "an exponent beyond"), ("n / 0", "division by zero"), ("1 +", "not an expr"),
+                      ("'a' * 3", "not a number")):
+        with pytest.raises(ValueError, match=why):
+            evaluate(text, space)
+    tree = dict(SLAB, parts=SLAB["parts"][:1] + [dict(SLAB["parts"][1], size=["width", "span", "dpeth"])])
+    with pytest.raises(SceneError, match=r"parts.water.size = 'dpeth': unknown name 'dpeth' \(did you mean "
+                                         r"'depth'\?\)"):
+        load_scene(scene_file(tmp_path, tree))
+
+
+def test_a_periodic_axis_wraps_over_the_period_and_cuts_the_parts_to_it(tmp_path):
+    """The tank across the slab has no walls across y (its image continues it), the domain along y is the period
+    (the neighbour lists' cells), and a part wider than the slab is cut to it; a period off the lattice or narrower
+    than twice the cutoff is refused."""
+    spec = load_scene(scene_file(tmp_path, SLAB))
+    built = geometry.build(spec.values)
+    assert np.array_equal(built.period, [0.0, 0.06, 0.0]) and (built.domain_lo[1], built.domain_hi[1]) == (0.0, 0.06)
+    y = np.round(built.walls.pos[:, 1] / 0.005).astype(int)
+    assert set(y) == {1, 3, 5, 7, 9, 11}                                  # 6 layers, none beyond the slab
+    assert built.walls.count == (20 + 6) * 6 * (15 + 3) - 20 * 6 * 15
+    assert geometry.particle_counts(spec.values) == {"fluid": 20 * 6 * 10, "walls": built.walls.count}
+    wide = load_scene(scene_file(tmp_path, SLAB), ["parts.water.size=[width, 1.0, depth]"])
+    assert geometry.build(wide.values).fluid.count == 20 * 6 * 10
+    with pytest.raises(SceneError, match="geometry.period = .*0.065 m along y is not a whole number of spacings"):
+        load_scene(scene_file(tmp_path, SLAB), ["geometry.period=[0, 0.065, 0]"])
+    with pytest.raises(SceneError, match="geometry.period = .*: 3 layers along y, narrower than twice the neighbour "
+                                         "cutoff .*; allowed: at least 6 spacings"):
+        load_scene(scene_file(tmp_path, SLAB), ["geometry.layers_across=3"])
+
+
+def test_a_part_numbers_its_sites_in_its_order_from_its_own_corner(tmp_path):
+    """order '-x y z' numbers a part's sites with x descending; lattice_offset counts them from another corner of
+    the same lattice: the same sites, positions offset + (i + 1/2) dp to the bit."""
+    spec = load_scene(scene_file(tmp_path, SLAB))
+    base = geometry.build(spec.values).fluid.pos
+    turned = geometry.build(load_scene(scene_file(tmp_path, SLAB), ["parts.water.order=-x y z"]).values).fluid.pos
+    assert np.array_equal(np.lexsort((turned[:, 2], turned[:, 1], -turned[:, 0])), np.arange(len(turned)))
+    assert np.array_equal(np.unique(turned, axis=0), np.unique(base, axis=0))
+    moved = geometry.build(load_scene(scene_file(tmp_path, SLAB), ["parts.water.lattice_offset=[0.07, 0, 0]"])
+                           .values).fluid.pos
+    assert np.array_equal(moved[:, 0], 0.07 + (np.round(base[:, 0] / 0.01 - 0.5) - 7 + 0.5) * 0.01)
+    assert np.allclose(moved, base, atol=1e-15, rtol=0.0)
+    with pytest.raises(SceneError, match=r"parts.water.lattice_offset = \[0.075, 0, 0\]: not a whole number of "
+                                         r"spacings"):
+        load_scene(scene_file(tmp_path, SLAB), ["parts.water.lattice_offset=[0.075, 0, 0]"])
+    with pytest.raises(SceneError, match="parts.water.order = 'x x z': not an order of the axes"):
+        load_scene(scene_file(tmp_path, SLAB), ["parts.water.order=x x z"])
+
+
+def test_a_holder_part_clamps_the_solid_that_touches_it(tmp_path):
+    """A solid part wholly inside its clamp box is a holder: its face is the one the other part's moving particles
+    leave it through, the mirrored clamp mirrors the holder into them, a mode starts from that face, and with
+    unreached_clamp = leave_out the holder's particles beyond the body's reach are left out (the cantilever's)."""
+    from sph_fsi_core.scenes import build_scene
+    tree = {"scene": {"builder": "geometry", "end_time": 0.01, "gravity": [0.0, 0.0, 0.0]},
+            "numerics": {"spacing": 0.001},
+            "parts": [{"name": "beam", "role": "solid", "shape": "box", "size": [0.02, 0.004, 0.004],
+                       "position": [0.01, 0.002, 0.002], "mode_tip_velocity": [0, 0, 0.01]},
+                      {"name": "root", "role": "solid", "shape": "box", "size": [0.004, 0.004, 0.004],
+                       "position": [-0.002, 0.002, 0.002], "clamp_lo": [-1, -1, -1], "clamp_hi": [0, 1, 1],
+                       "unreached_clamp": "leave_out"}],
+            "probes": [{"name": "tip", "kind": "displacement", "position": [0.0195, 0.002, 0.002],
+                        "size": [0.001, 0.004, 0.004]}]}
+    spec = load_scene(scene_file(tmp_path, tree))
+    built = geometry.build(spec.values)
+    solid = built.solid
+    assert solid.moving_count == 320 and solid.count == 384 and not built.notes      # held: no free body
+    ghosts = np.flatnonzero(built.clamp_mirror >= 0)
+    assert len(ghosts) == 64 and np.allclose(solid.pos[ghosts, 0], -solid.pos[built.clamp_mirror[ghosts], 0])
+    assert solid.vel[solid.movable, 2].max() == pytest.approx(0.01, rel=0.05) and not solid.vel[~solid.movable].any()
+    tip = built.probes[0]
+    assert tip.name == "tip" and len(tip.indices) == 16 and np.allclose(solid.pos[tip.indices, 0], 0.0195)
+    kept, left_out = build_scene("geometry", spec.values)
+    assert left_out == 16 and kept.solid.count == 368                       # the holder's last layer: out of reach
+    assert build_scene("geometry", spec.with_overrides({"parts.root.unreached_clamp": "keep"}).values)[1] == 0
+    tree["parts"][1]["position"] = [-0.012, 0.002, 0.002]
+    with pytest.raises(SceneError, match="parts.root.clamp_lo: the clamp box holds all of the part's particles, and "
+                                         "no moving solid particle of another part touches it"):
+        geometry.build(load_scene(scene_file(tmp_path, tree)).values)
+    tree["parts"][1]["position"] = [-0.002, 0.002, 0.002]
+    tree["probes"][0]["position"] = [0.05, 0.002, 0.002]
+    with pytest.raises(SceneError, match="probes.tip: no moving solid particle inside the box"):
+        geometry.build(load_scene(scene_file(tmp_path, tree)).values)
+
+
+def test_a_body_too_thin_for_the_quadratic_fit_runs_on_the_linear_one(tmp_path):
+    """Two layers through: the quadratic fit is not determined; the solid falls back to the linear fit and says so
+    (as the cantilever does), rather than refusing the part."""
+    from sph_fsi_core.simulation import Simulation
+    plate = {"name": "plate", "role": "solid", "shape": "box", "size": [0.02, 0.1, 0.1], "position": [0.2, 0.05, 0.05]}
+    sim = Simulation(load_scene(scene_file(tmp_path, with_part(plate)), ["output.snapshot_interval=0"]))
+    assert any("have fewer than three particle layers" in w and "linear fit" in w for w in sim.warnings)
+
+
+def test_the_tank_scene_files_build_the_tanks_lattice():
+    """config/hydrostatic.yaml and dam_break.yaml (the built-in builders' particles, site for site: the bits
+    harness checks the runs): the periodic tank's walls are the slab's floor and end walls in lattice order, the
+    dam break's gate is counted from the column's face, column + (i + 1/2) dp, to the bit."""
+    spec = load_scene("hydrostatic", ["numerics.spacing=0.005"])
+    built = geometry.build(spec.values)
+    dp = 0.005
+    assert np.array_equal(built.walls.pos, tank_walls(10, 6, 24, 3, dp, periodic_y=True))
+    assert np.array_equal(built.fluid.pos[:, 0], (np.repeat(np.arange(10), 6 * 20) + 0.5) * dp)
+    assert np.array_equal(built.period, [0.0, 6 * dp, 0.0]) and built.domain_lo[1] == 0.0
+    spec = load_scene("dam_break")
+    built = geometry.build(spec.values)
+    dp, column = spec["numerics.spacing"], 20 * spec["numerics.spacing"]
+    gate = built.release_walls.pos
+    assert len(gate) == 3 * 6 * 53 and np.array_equal(gate[:, 0], column + (np.repeat(np.arange(3), 6 * 53) + 0.5) * dp)
+
+
+def test_an_entry_exists_when_its_condition_holds_and_a_part_moves_as_a_copy(tmp_path):
+    """`when` leaves a part, probe or judge out where it is false (an expression: one variant's entry); `move`
+    places a part's particles again elsewhere, whole spacings on, (x + offset) + move to the bit; a text key takes
+    an expression written `= ...`."""
+    tree = dict(SLAB, geometry={**SLAB["geometry"], "second": {"value": False, "unit": "", "description": "Two"}})
+    post = {"name": "post", "role": "wall", "shape": "box", "size": [0.03, "span", 0.05],
+            "position": [0.05, "span / 2", 0.025], "layers": 3}
+    tree["parts"] = SLAB["parts"] + [post, dict(post, name="post2", move=["0.1", 0, 0], when="second",
+                                                order="= '-x y z' if second else 'x y z'")]
+    tree["probes"] = [{"name": "p", "kind": "pressure", "position": [0.15, 0.03, 0.0], "when": "second"}]
+    one = load_scene(scene_file(tmp_path, tree))
+    built = geometry.build(one.values)
+    assert set(built.parts) == {"tank", "water", "post"} and built.probes == []
+    two = one.with_overrides({"geometry.second": True})
+    assert two["parts.post2.order"] == "-x y z"
+    built = geometry.build(two.values)
+    walls, (_, post1), (_, post2) = built.walls.pos, built.parts["post"], built.parts["post2"]
+    assert len(post1) == len(post2) and [p.name for p in built.probes] == ["p"]
+    first = walls[post1][np.lexsort((walls[post1][:, 2], walls[post1][:, 1], -walls[post1][:, 0]))]
+    assert np.array_equal(walls[post2], first + np.array([0.1, 0.0, 0.0]))
+    with pytest.raises(SceneError, match=r"parts.post2.move = \[0.105, 0, 0\]: not a whole number of spacings"):
+        load_scene(scene_file(tmp_path, tree), ["geometry.second=true", "parts.post2.move=[0.105, 0, 0]"])
+    tree["parts"] = [SLAB["parts"][0], dict(SLAB["parts"][1], when="second")]
+    with pytest.raises(SceneError, match="parts: every water part is left out"):
+        load_scene(scene_file(tmp_path, tree))
+
+
+def test_a_compressed_start_moves_the_walls_beside_the_water_or_all_of_them(tmp_path):
+    """geometry.water_start = compressed: the water's layers as the density correction holds the column; the wall
+    sites above its floor move with it where they are beside it (the tank's), or all of them with
+    compressed_walls = all (a post far off too)."""
+    far = {"name": "far", "role": "wall", "shape": "box", "size": [0.03, "span", 0.05],
+           "position": [0.5, "span / 2", 0.025], "layers": 3}
+    tree = dict(SLAB, parts=SLAB["parts"] + [far])
+    lattice = geometry.build(load_scene(scene_file(tmp_path, tree)).values)
+    beside = geometry.build(load_scene(scene_file(tmp_path, tree), ["geometry.water_start=compressed"]).values)
+    every = geometry.build(load_scene(scene_file(tmp_path, tree), ["geometry.water_start=compressed",
+                                                                   "geometry.compressed_walls=all"]).values)
+    far_rows = beside.parts["far"][1]
+    assert np.array_equal(beside.walls.pos[far_rows], lattice.walls.pos[far_rows])
+    assert (every.walls.pos[far_rows, 2] < lattice.walls.pos[far_rows, 2]).all()
+    tank_rows = beside.parts["tank"][1]
+    assert np.array_equal(beside.walls.pos[tank_rows], every.walls.pos[tank_rows])
+    assert (beside.fluid.pos[:, 2] <= lattice.fluid.pos[:, 2]).all() and (beside.fluid.pos[:, 2]
+                                                                          < lattice.fluid.pos[:, 2]).any()

@@ -236,7 +236,7 @@ def test_two_layer_beam_keeps_the_linear_fit_as_it_bends_and_the_fit_is_remade()
     order = sim.solid_phase.solver.work.mls_order.copy()
     moving = sim.solid.movable
     # every moving particle linear (the root's 12 had quadratic fits while the mirrored clamp kept the fixed clamp's
-    # margin above and below the root: scenes/cantilever.py)
+    # margin above and below the root: config/cantilever.yaml)
     assert (order[moving] == 1).sum() == 120
     while sim.time < 0.02:
         sim.step()

@@ -1,12 +1,13 @@
-"""The hydrostatic plate's set-up (scenes/hydrostatic_plate.py): the plate, the water on it, the walls beside it, the
-relaxation that settles both, and how a run is judged."""
+"""The hydrostatic plate's set-up (config/hydrostatic_plate.yaml, scenes/cases/hydrostatic_plate.py): the plate, the
+water on it, the walls beside it, the relaxation that settles both, and how a run is judged."""
 import math
 
 import numpy as np
 import pytest
 
 from sph_fsi_core.scene import load_scene
-from sph_fsi_core.scenes import clamped_plate, hydrostatic_plate, tank
+from sph_fsi_core.scenes import BUILDERS, tank
+from sph_fsi_core.scenes.cases import clamped_plate, hydrostatic_plate
 from sph_fsi_core.simulation import Simulation
 
 # a small soft plate that steps in a blink: 0.2 m x 0.02 m under 0.1 m of water, 4 particles through
@@ -16,7 +17,7 @@ SMALL = ["geometry.span=0.2", "geometry.thickness=0.02", "geometry.water_height=
 
 def built(*overrides):
     spec = load_scene("hydrostatic_plate", list(overrides))
-    return spec, hydrostatic_plate.build(spec.values)
+    return spec, BUILDERS[spec.builder].build(spec.values)
 
 
 def test_the_benchmark_set_up():
@@ -56,7 +57,7 @@ def test_breathing_period_and_relaxation_rates():
     # a quarter wave in a column whose compressibility is the tolerance's: 4 H / sqrt(g H / tol)
     period = tank.breathing_period(0.1, v["scene.gravity"], v["fluid.density_tolerance"])
     assert period == pytest.approx(4 * 0.1 / math.sqrt(9.81 * 0.1 / 0.01))
-    b = hydrostatic_plate.build(v)
+    b = BUILDERS[spec.builder].build(v)
     assert b.damping_rate == pytest.approx(2.0 * clamped_plate.first_mode_omega(v))
     assert b.fluid_damping_rate == pytest.approx(2.0 * 2.0 * math.pi / period)
 

@@ -7,9 +7,14 @@ from sph_fsi_core.numerics.neighbours import (MAX_CELLS_PER_AXIS, MIN_CELL_BUDGE
                                               chunk_first_target, inside_box, max_displacement, named_in,
                                               source_grid)
 from sph_fsi_core.numerics.periodic import minimum_image
-from sph_fsi_core.scenes import tank
 
 BOX = np.array([0.03, 0.02, 0.025])
+
+
+def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
+    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest."""
+    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
+    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
 
 
 def _random(n, seed, lo=None, hi=None):
@@ -367,7 +372,7 @@ def test_overflowing_buffers_give_the_same_rows_in_the_same_order(half):
     """On a jittered periodic block with particles a little outside the box, the rows are brute force's; a first
     build whose per-thread buffers are far too small scans again and gives the same rows in the same order, and
     the next build, sized from it, scans once."""
-    pos = tank.lattice(9, 9, 9, DP) + np.random.default_rng(3).normal(0.0, 0.3 * DP, (729, 3))
+    pos = lattice(9, 9, 9, DP) + np.random.default_rng(3).normal(0.0, 0.3 * DP, (729, 3))
     period = np.array([0.0, 9 * DP, 0.0])
     pos[:5, 1] -= 0.2 * DP        # a little below the periodic box's start
     cutoff_args = (2.0 * H, 0.1 * H)
@@ -386,7 +391,7 @@ def test_overflowing_buffers_give_the_same_rows_in_the_same_order(half):
     assert np.array_equal(roomy.crossing, small.crossing)
     small.build(pos, pos)           # sized from the first build: one scan
     assert small.overflows == 1 and np.array_equal(roomy.index, small.index)
-    walls = tank.lattice(9, 9, 2, DP, offset=(0.0, 0.0, -2 * DP))
+    walls = lattice(9, 9, 2, DP, offset=(0.0, 0.0, -2 * DP))
     full = NeighbourList(*cutoff_args, period=period, box_lo=np.zeros(3), box_hi=period)
     full.build(pos, walls)
     assert full.pairs > 0 and _same_rows(full, _brute_force_rows(pos, walls, full.cutoff, period, False))
@@ -416,17 +421,17 @@ def test_cells_out_of_reach_hide_no_neighbour(period_in_dp):
     list between two sets."""
     period = np.array(period_in_dp, dtype=float) * DP
     cutoff = 2.0 * DP
-    lattice = tank.lattice(9, 9, 6, DP)
-    jittered = lattice + np.random.default_rng(5).uniform(-0.45 * DP, 0.45 * DP, lattice.shape)
+    sites = lattice(9, 9, 6, DP)
+    jittered = sites + np.random.default_rng(5).uniform(-0.45 * DP, 0.45 * DP, sites.shape)
     for k in range(3):
         if period[k] > 0.0:
             jittered[:, k] %= period[k]
-            lattice = lattice[lattice[:, k] < period[k] - 1e-12]
+            sites = sites[sites[:, k] < period[k] - 1e-12]
     far = np.array([[30 * DP, 4 * DP, 2 * DP], [-20 * DP, -20 * DP, -20 * DP], [4 * DP, 4 * DP, 6.9 * DP]])
     for k in range(3):   # the lists' contract: on a periodic axis, positions within 1.5 periods of each other
         if period[k] > 0.0:
             far[:, k] %= period[k]
-    for points in (lattice, jittered):
+    for points in (sites, jittered):
         half = NeighbourList(cutoff, 0.0, period=period, box_lo=np.zeros(3), box_hi=period, half=True)
         half.build(points, points)
         expected = _brute_force_rows(points, points, cutoff, period, True)
@@ -443,8 +448,8 @@ def test_cells_out_of_reach_hide_no_neighbour(period_in_dp):
 def test_a_shared_or_kept_grid_gives_the_same_lists():
     """The wall->fluid list scanning the half list's fluid grid, and a fixed-walls list keeping its grid while the
     walls stay, give the rows a fresh grid gives; a wall that moves (a solid in the boundary) makes a new grid."""
-    fluid = tank.lattice(8, 6, 8, DP) + np.random.default_rng(2).normal(0.0, 0.2 * DP, (384, 3))
-    walls = tank.lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
+    fluid = lattice(8, 6, 8, DP) + np.random.default_rng(2).normal(0.0, 0.2 * DP, (384, 3))
+    walls = lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
     period = np.array([0.0, 6 * DP, 0.0])
     args = (2.0 * H, 0.1 * H)
     kw = dict(period=period, box_lo=np.zeros(3), box_hi=period)
@@ -472,7 +477,7 @@ def test_a_neighbour_on_the_corner_of_a_cell_just_in_reach_is_kept():
     exactly the cutoff here) and a target diagonally across, 0.9999 cutoff away, whose gaps to that cell add up to
     0.9998 cutoff^2: the pair is listed."""
     cutoff = 2.0 * DP
-    sources = tank.lattice(9, 9, 9, DP, offset=(-0.5 * DP,) * 3)   # 0 .. 8 dp: 4 cells of 2 dp per axis
+    sources = lattice(9, 9, 9, DP, offset=(-0.5 * DP,) * 3)   # 0 .. 8 dp: 4 cells of 2 dp per axis
     delta = 0.9999 * cutoff / np.sqrt(3.0)
     targets = np.full((1, 3), 2.0 * DP - delta)    # in cell (0, 0, 0), across the corner (2, 2, 2) dp
     lst = NeighbourList(cutoff, 0.0)
@@ -487,10 +492,10 @@ def test_the_fluid_to_wall_list_scanning_only_the_fluid_the_wall_to_fluid_list_n
     """The fluid's rebuild scans for fluid->wall rows only the fluid particles that the wall->fluid list names
     (named_in): on a jittered periodic block above a floor, the rows and crossing flags are those of a scan over
     all the fluid, and most of the fluid is not scanned."""
-    fluid = tank.lattice(8, 6, 12, DP) + np.random.default_rng(4).normal(0.0, 0.2 * DP, (576, 3))
+    fluid = lattice(8, 6, 12, DP) + np.random.default_rng(4).normal(0.0, 0.2 * DP, (576, 3))
     period = np.array([0.0, 6 * DP, 0.0])
     fluid[:, 1] %= period[1]
-    walls = tank.lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
+    walls = lattice(12, 6, 3, DP, offset=(-2 * DP, 0.0, -3 * DP))
     args = (2.0 * H, 0.1 * H)
     kw = dict(period=period, box_lo=np.zeros(3), box_hi=period)
     wall_fluid = NeighbourList(*args, **kw)
@@ -514,7 +519,7 @@ def test_the_fluid_to_wall_list_scanning_only_the_fluid_the_wall_to_fluid_list_n
 def test_a_half_list_over_shuffled_particles_is_the_brute_force_one():
     """The half list's row skips the sources below its target by their cells' ends or a search (_first_above); with
     the particles numbered at random (no cell wholly above or below a target) the rows are still brute force's."""
-    points = tank.lattice(9, 9, 9, DP) + np.random.default_rng(6).normal(0.0, 0.25 * DP, (729, 3))
+    points = lattice(9, 9, 9, DP) + np.random.default_rng(6).normal(0.0, 0.25 * DP, (729, 3))
     points = points[np.random.default_rng(8).permutation(len(points))]
     half = NeighbourList(2.0 * DP, 0.1 * DP, half=True)
     half.build(points, points)

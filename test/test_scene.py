@@ -11,7 +11,8 @@ from sph_fsi_core.answers import references
 from sph_fsi_core.answers.references import (beam_theory_frequency, cantilever_mode_velocity, clamped_free_mode_kl,
                                      fe3d_frequency, plate_frequency_eq15, read_reference_csv)
 from sph_fsi_core.scene import defaults_yaml, load_scene
-from sph_fsi_core.scenes import BUILDERS, cantilever
+from sph_fsi_core.scenes import BUILDERS
+from sph_fsi_core.scenes.cases import cantilever
 from sph_fsi_core.schema import SceneError
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.solver import QUADRATIC_FIT_TESTED_CFL
@@ -25,7 +26,7 @@ CANTILEVER_YAML = (REPO / "config" / "cantilever.yaml").read_text()
 
 def test_cantilever_scene_values():
     spec = load_scene("cantilever")
-    assert spec.builder == "cantilever"
+    assert spec.builder == "geometry" and spec["scene.case"] == "cantilever"
     assert spec.name == "cantilever"
     assert spec["numerics.spacing"] == 1e-3
     assert spec["solid.young_modulus"] == 1.859e6
@@ -43,16 +44,21 @@ def test_cantilever_scene_values():
     assert load_scene().values == spec.values
 
 
+def build(spec):
+    """The particles of a scene as its builder makes them (before the mirrored clamp's unreached ones go)."""
+    return BUILDERS[spec.builder].build(spec.values)
+
+
 def test_cantilever_build():
     spec = load_scene("cantilever")
-    built = cantilever.build(spec.values)
+    built = build(spec)
     s = built.solid
     assert s.moving_count == 960
     # the default scheme's mirrored clamp: the root's odd image, 4 x 4 x 6 ghosts, every one with its image in the beam
     assert s.count == 960 + 96 and int((~s.movable).sum()) == 96
     assert (built.clamp_mirror[~s.movable] >= 0).all()
     # the fixed clamp (Gray's scheme, the paper's): its wall 4 layers deep, 5 above and below: 4 x 14 x 6 = 336
-    fixed = cantilever.build(load_scene("cantilever", ["solid.scheme=gray2001"]).values).solid
+    fixed = build(load_scene("cantilever", ["solid.scheme=gray2001"])).solid
     assert int((~fixed.movable).sum()) == 336
     assert np.ptp(fixed.pos[~fixed.movable][:, 2]) == pytest.approx(13 * 1e-3)
     dp = 1e-3
@@ -85,18 +91,18 @@ def test_cantilever_build():
     order = np.argsort(beam[:, 0])
     assert np.all(np.diff(s.vel[s.movable][order, 2]) >= -1e-15)
     # no fluid phase
-    assert cantilever.PHASES == ("solid",)
+    assert spec.phases == ("solid",)
     assert built.fluid is None and built.walls is None
     assert np.all(built.domain_lo < s.pos.min(axis=0)) and np.all(built.domain_hi > s.pos.max(axis=0))
 
 
 def test_cantilever_build_other_resolution():
     spec = load_scene("cantilever", ["numerics.spacing=0.0005", "geometry.length=0.01"])
-    built = cantilever.build(spec.values)
+    built = build(spec)
     # beam 20 x 12 x 8, the mirrored clamp 4 x 12 x 8 (the fixed clamp's margin counts layers: 4 x 12 x (8 + 10))
     assert built.solid.moving_count == 20 * 12 * 8
     assert built.solid.count == 20 * 12 * 8 + 4 * 12 * 8
-    fixed = cantilever.build({**spec.values, "solid.clamp": "fixed"}).solid
+    fixed = build(spec.with_overrides({"solid.clamp": "fixed"})).solid
     assert fixed.count == 20 * 12 * 8 + 4 * 12 * 18
     assert len(built.probes[0].indices) == 12 * 8
 
@@ -242,9 +248,10 @@ def test_file_and_override_order(tmp_path):
     assert spec["solid.poisson_ratio"] == 0.3
     spec2 = spec.with_overrides({"solid.young_modulus": 1e6})
     assert spec2["solid.poisson_ratio"] == 0.3 and spec2["solid.young_modulus"] == 1e6
-    # a minimal file: the builder from the file name, everything else by default
-    spec = load_scene(_write(tmp_path, "solid:\n  density: 1200.0\n", "cantilever.yaml"))
-    assert spec.builder == "cantilever" and spec["solid.density"] == 1200.0 and spec["geometry.length"] == 0.04
+    # a minimal file: its parts (the geometry builder without scene.builder), everything else by default
+    spec = load_scene(_write(tmp_path, "solid:\n  density: 1200.0\nparts:\n  - {name: block, role: solid, "
+                                       "shape: box, size: [0.01, 0.01, 0.01]}\n", "block.yaml"))
+    assert spec.builder == "geometry" and spec["solid.density"] == 1200.0 and spec["numerics.spacing"] == 1e-3
 
 
 def _replace(old, new):
@@ -274,23 +281,38 @@ BAD_FILES = [
      ["poisson_ratio", "duplicate"]),
     ("duplicate_section", CANTILEVER_YAML + "solid:\n  density: 900.0\n", [], ["solid", "duplicate"]),
     ("fluid_section_in_cantilever", CANTILEVER_YAML + "fluid:\n  density: 1000.0\n", [], ["fluid.density"]),
-    ("unknown_builder", _replace("builder: cantilever", "builder: dam_break_xyz"), [],
-     ["scene.builder", "allowed", "cantilever"]),
-    ("builder_not_string", _replace("builder: cantilever", "builder: 3"), [], ["scene.builder"]),
+    ("unknown_builder", _replace("builder: geometry", "builder: dam_break_xyz"), [],
+     ["scene.builder", "allowed", "geometry"]),
+    ("builder_not_string", _replace("builder: geometry", "builder: 3"), [], ["scene.builder"]),
     ("string_for_float", _replace("young_modulus: 1.859e6", "young_modulus: stiff"), [],
      ["solid.young_modulus", "allowed"]),
     ("yaml11_nan_word", _replace("young_modulus: 1.859e6", "young_modulus: nan"), [],
      ["solid.young_modulus", "allowed"]),
     ("list_for_float", _replace("density: 1000.0", "density: [1000.0, 2.0]"), [], ["solid.density", "allowed"]),
-    ("float_for_int", _replace("clamp_layers: 4", "clamp_layers: 2.5"), [], ["geometry.clamp_layers", "allowed"]),
-    ("bool_for_int", _replace("clamp_layers: 4", "clamp_layers: true"), [], ["geometry.clamp_layers", "allowed"]),
+    ("float_for_int", None, ["geometry.clamp_layers=2.5"], ["geometry.clamp_layers", "allowed"]),
+    ("bool_for_int", None, ["geometry.clamp_layers=true"], ["geometry.clamp_layers", "allowed"]),
+    ("declared_range_not_numbers", _replace('clamp_layers: {value: 4, unit: "1", range: [1, 20]',
+                                            'clamp_layers: {value: 4, unit: "1", range: [true, 20]'),
+     [], ["geometry.clamp_layers.range", "allowed"]),
+    ("declared_without_unit", _replace("thickness: {value: 0.004, unit: m,", "thickness: {value: 0.004,"), [],
+     ["geometry.thickness.unit", "missing"]),
+    ("declared_unknown_field", _replace("thickness: {value: 0.004, unit: m,", "thickness: {value: 0.004, units: m,"),
+     [], ["geometry.thickness.units", "allowed"]),
+    ("derived_set", None, ["geometry.reach=0.1"], ["geometry.reach", "derives", "allowed"]),
+    ("expression_unknown_name", _replace("size: [length, width, thickness]", "size: [lenght, width, thickness]"), [],
+     ["parts.beam.size", "lenght", "did you mean 'length'", "allowed"]),
+    ("expression_not_allowed", _replace("size: [length, width, thickness]", "size: [__import__('os'), width, 1]"),
+     [], ["parts.beam.size", "not allowed"]),
+    ("expression_out_of_range", None, ["parts.beam.mode_length=-length"],
+     ["parts.beam.mode_length = '-length' = -0.04", "out of range"]),
     ("bool_for_float", _replace("density: 1000.0", "density: yes"), [], ["solid.density", "allowed"]),
     ("negative", _replace("young_modulus: 1.859e6", "young_modulus: -1.859e6"), [],
      ["solid.young_modulus", "allowed"]),
     ("zero", _replace("young_modulus: 1.859e6", "young_modulus: 0"), [], ["solid.young_modulus", "allowed"]),
     ("nan", _replace("young_modulus: 1.859e6", "young_modulus: .nan"), [], ["solid.young_modulus", "allowed"]),
     ("inf", _replace("density: 1000.0", "density: .inf"), [], ["solid.density", "allowed"]),
-    ("minus_inf", _replace("tip_velocity: 0.01", "tip_velocity: -.inf"), [], ["geometry.tip_velocity", "allowed"]),
+    ("minus_inf", _replace("tip_velocity: {value: 0.01,", "tip_velocity: {value: -.inf,"), [],
+     ["geometry.tip_velocity", "allowed"]),
     ("nu_half", _replace("poisson_ratio: 0.49", "poisson_ratio: 0.5"), [], ["solid.poisson_ratio", "allowed"]),
     ("nu_0.6", _replace("poisson_ratio: 0.49", "poisson_ratio: 0.6"), [], ["solid.poisson_ratio", "allowed"]),
     ("gravity_two_components", _replace("gravity: [0.0, 0.0, 0.0]", "gravity: [0.0, -9.81]"), [],
@@ -305,7 +327,8 @@ BAD_FILES = [
      ["numerics.spacing", "geometry.thickness", "allowed"]),
     ("spacing_equal_to_thickness", _replace("spacing: 0.001", "spacing: 0.004"), [],
      ["numerics.spacing", "geometry.thickness", "allowed"]),
-    ("length_not_multiple", _replace("length: 0.04 ", "length: 0.0405 "), [], ["geometry.length", "allowed"]),
+    ("length_not_multiple", _replace("length: {value: 0.04,", "length: {value: 0.0405,"), [],
+     ["geometry.length", "allowed"]),
     ("scene_name_number", _replace("name: cantilever", "name: 5"), [], ["scene.name", "allowed"]),
     # overrides
     ("set_negative_modulus", None, ["solid.young_modulus=-1"], ["solid.young_modulus", "allowed"]),

@@ -7,7 +7,7 @@ import pytest
 
 from sph_fsi_core.scene import builtin_scenes, load_scene, parse_yaml
 from sph_fsi_core.scenes import BUILDERS
-from sph_fsi_core.schema import SOLID, SceneError, Schema
+from sph_fsi_core.schema import SOLID, SceneError
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.schemes import DEFAULT_SCHEME, SCHEME_KEYS, SCHEMES
 
@@ -71,9 +71,13 @@ def test_the_schema_default_is_a_scheme_and_the_detailed_defaults_are_its_values
         assert params[key].default == SCHEMES[DEFAULT_SCHEME].values[key], key
 
 
-def _write(tmp_path, text, name="cantilever.yaml"):
+# a scene with a solid and nothing else said: one block of the solid (everything else by default)
+BLOCK = "parts:\n  - {name: block, role: solid, shape: box, size: [0.01, 0.004, 0.004]}\n"
+
+
+def _write(tmp_path, text, name="block.yaml"):
     p = tmp_path / name
-    p.write_text(text)
+    p.write_text(text + BLOCK)
     return str(p)
 
 
@@ -175,14 +179,12 @@ def test_a_new_scheme_through_with_overrides_is_expanded_again_under_the_explici
 def test_the_scheme_is_a_declared_key_that_waits_for_a_reset():
     """Declared like every other key (the node's parameter descriptors come from the same Param): a string with
     its choices, and a rebuild key, since it may change the velocity gradient and the nodal integration."""
-    schema = Schema.for_builder(BUILDERS["cantilever"].phases, BUILDERS["cantilever"].geometry)
-    p = schema.params["solid.scheme"]
+    p = load_scene("cantilever").schema.params["solid.scheme"]
     assert p.kind == "str" and p.choices == tuple(SCHEMES) and p.rebuild and p.description
     assert p.coerce("gray2001") == "gray2001"
     assert all(name in p.range_text() for name in SCHEMES)
     assert all(name in p.description for name in SCHEMES)
-    dam_break = BUILDERS["dam_break"]
-    assert "solid.scheme" not in Schema.for_builder(dam_break.phases, dam_break.geometry).params
+    assert "solid.scheme" not in load_scene("dam_break").schema.params
 
 
 def test_simulation_apply_defers_a_scheme_change_to_the_reset_and_keeps_explicit_keys():

@@ -369,7 +369,7 @@ def cantilever_fe_static_deflection(length, thickness, width, young_modulus, poi
                                     element_size):
     """Static 3D deflection of the clamped-free beam of cantilever_fe_frequency (the same elements and clamp: u = 0
     on the x = 0 face) under a uniform body force `body_force_z` (N/m^3, a dead load like
-    scenes/cantilever_loaded.py's distributed one). The load and the beam are symmetric about y = width / 2, so
+    config/cantilever_loaded.yaml's distributed one). The load and the beam are symmetric about y = width / 2, so
     only the half y <= width / 2 is meshed, with u_y = 0 on the plane of symmetry (half the unknowns: a direct
     solve of the long beams fits in memory). Returns u_z (m) at each of `points` ((n, 3) in [0, L] x [0, W] x
     [0, H], which must be nodes of the mesh: multiples of element_size / 2; a point beyond the middle is read at

@@ -34,7 +34,7 @@ SHIFT_RANGE = 0.2
 SHIFT_STEP = 1.0e-3
 # a peak is sought from this long before the measured onset (s)
 PEAK_LEAD = 0.01
-# a frequency is measured on a record of at least this many periods of its reference (as scenes/cantilever.py's)
+# a frequency is measured on a record of at least this many periods of its reference (as scenes/cases/cantilever.py's)
 MIN_PERIODS = 1.0
 
 

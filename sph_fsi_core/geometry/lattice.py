@@ -1,9 +1,9 @@
 """The one cubic lattice every part of a geometry scene is built on, and the sites a shape holds on it.
 
-Sites sit at origin + (i + 1/2) dp for integer i, j, k, as the built-in scenes' (scenes/tank.py): water, walls and
-solids continue each other's lattice, so a particle next to a wall sums the same density as one in the bulk, and two
-parts overlap exactly where they claim the same site. A part's sites are kept as integer indices (i, j, k); their
-positions follow from them.
+Sites sit at origin + (i + 1/2) dp for integer i, j, k (a part may count its own from another corner of the same
+lattice: its lattice_offset, geometry/fill.py): water, walls and solids continue each other's lattice, so a particle
+next to a wall sums the same density as one in the bulk, and two parts overlap exactly where they claim the same
+site. A part's sites are kept as integer indices (i, j, k); their positions follow from them.
 
 Shells are measured in the chessboard distance on the lattice (the largest of the index differences), so a box's
 walls have square corners, as a built-in tank's.

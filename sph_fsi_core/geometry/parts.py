@@ -23,7 +23,8 @@ NAME_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 ROLES = ("water", "wall", "solid", "gate")
 SHAPES = ("box", "cylinder", "sphere", "mesh")
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
-PROBE_KINDS = ("point", "pressure", "water_height", "force")
+PROBE_KINDS = ("point", "displacement", "pressure", "water_height", "force")
+AXES = ("x", "y", "z")
 JUDGE_KINDS = ("frequency", "mean", "series")
 REQUIRED = None    # a Param default meaning "must be given"
 
@@ -40,7 +41,22 @@ def _every_part(k):
             _p(k + "position", (0.0, 0.0, 0.0), "m", "Where the shape's own origin goes (a box's, cylinder's or "
                "sphere's centre; a mesh's file origin)", kind="vec3"),
             _p(k + "rotation", (0.0, 0.0, 0.0), "deg", "Rotation about the world's x, then y, then z axis",
-               kind="vec3")]
+               kind="vec3"),
+            _p(k + "order", "x y z", "", "The order its particles are numbered in: the world's axes from the slowest "
+               "to the fastest, '-' for descending (a clamp behind a beam's root at x = 0: '-x y z', outward from "
+               "its face)", kind="str"),
+            _p(k + "lattice_offset", (0.0, 0.0, 0.0), "m", "Its sites counted from geometry.lattice_origin plus this "
+               "(whole spacings: the same lattice): at origin + offset + (i + 1/2) dp, which can differ from origin + "
+               "(i + 1/2) dp in the last bit; a block of sites counted from its own corner", kind="vec3"),
+            _p(k + "move", (0.0, 0.0, 0.0), "m", "Its particles moved by this once placed (whole spacings: they stay "
+               "on the lattice): the part its shape describes, again elsewhere (the second of a pair of walls)",
+               kind="vec3"),
+            _when(k, "part")]
+
+
+def _when(k, what):
+    return _p(k + "when", True, "", f"Whether the {what} is in the scene: false leaves it out as if not listed (an "
+              f"expression in the scene's parameters: a part of one variant only)", kind="bool")
 
 
 def _box(k):
@@ -93,18 +109,32 @@ def _solid(k):
             _p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the body", kind="vec3"),
             _p(k + "mode_tip_velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity in the first bending mode of a "
                "cantilever (Satake et al. eqs. (12)-(14)) from the clamp face along its normal, the free end moving "
-               "at this velocity (0: none)", kind="vec3")]
+               "at this velocity (0: none)", kind="vec3"),
+            _p(k + "mode_length", 0.0, "m", "The length the mode's shape is scaled to (0: from the clamp face to "
+               "the free end's particles plus half a spacing)", low=0.0, high=1.0e3),
+            _p(k + "unreached_clamp", "keep", "", "With solid.clamp = mirrored, its clamp particles no moving "
+               "particle comes within 2h + dp of: 'keep' them in the solid, or 'leave_out': they become the water's "
+               "walls where they were built (the rigid holder they stand for; gone without water), and no solid pass "
+               "steps them (a long clamp: scenes/built.without_unreached_clamp)", kind="str",
+               choices=("keep", "leave_out"))]
 
 
 def _every_probe(k):
     return [_p(k + "kind", REQUIRED, "", "What it measures: 'point' (displacement and velocity of the solid's "
-               "material point nearest to position), 'pressure' (the water's pressure at a point on a wall), "
+               "material point nearest to position), 'displacement' (the mean displacement of the solid's moving "
+               "particles inside a box), 'pressure' (the water's pressure at a point on a wall), "
                "'water_height' (the free surface above position's (x, y), over its z), 'force' (the water's force on "
-               "a part)", kind="str", choices=PROBE_KINDS)]
+               "a part)", kind="str", choices=PROBE_KINDS),
+            _when(k, "probe")]
 
 
 def _probe_position(k):
     return [_p(k + "position", REQUIRED, "m", "Where it measures", kind="vec3")]
+
+
+def _probe_box(k):
+    return [_p(k + "size", REQUIRED, "m", "Edge lengths of the box, centred on position, whose moving solid particles "
+               "it follows (a beam's free end: one spacing along the beam, the body's width across)", kind="vec3")]
 
 
 def _probe_part(k):
@@ -119,7 +149,8 @@ def _every_judge(k):
                kind="str"),
             _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
             _p(k + "from", 0.0, "s", "Judged from this simulated time", low=0.0, high=1.0e3),
-            _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3)]
+            _p(k + "to", 0.0, "s", "Judged up to this simulated time (0: the run's end)", low=0.0, high=1.0e3),
+            _when(k, "judge")]
 
 
 def _judge_reference(k):
@@ -159,7 +190,9 @@ PART_GROUPS = (("every part", ROLES, SHAPES, _every_part),
                ("role gate", ("gate",), SHAPES, _gate),
                ("role solid", ("solid",), SHAPES, _solid))
 PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
-                ("kind point, pressure or water_height", ("point", "pressure", "water_height"), _probe_position),
+                ("kind point, displacement, pressure or water_height", ("point", "displacement", "pressure",
+                                                                        "water_height"), _probe_position),
+                ("kind displacement", ("displacement",), _probe_box),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
                 ("kind frequency or mean", ("frequency", "mean"), _judge_reference),
@@ -238,15 +271,16 @@ def reference_table(width=120):
     return lines
 
 
-def list_entries(flat, which):
-    """{name: {key: value}} of list `which` in the flat keys, in file order."""
+def list_entries(flat, which, listed=False):
+    """{name: {key: value}} of list `which` in the flat keys, in file order: the entries in the scene (`when` not
+    false), or with `listed` every one the file lists."""
     out = {}
     prefix = which + "."
     for key, value in flat.items():
         if key.startswith(prefix) and key.count(".") == 2:
             _, name, sub = key.split(".")
             out.setdefault(name, {})[sub] = value
-    return out
+    return out if listed else {name: keys for name, keys in out.items() if keys.get("when", True) is not False}
 
 
 def _choice(flat, key, choices):
@@ -263,13 +297,13 @@ def list_params(flat):
     """The Params of every part, probe and judge the flat keys name (SceneError naming a missing or unknown role,
     shape or kind)."""
     out = []
-    for name in list_entries(flat, "parts"):
+    for name in list_entries(flat, "parts", listed=True):
         role = _choice(flat, f"parts.{name}.role", ROLES)
         shape = _choice(flat, f"parts.{name}.shape", SHAPES)
         out += part_params(name, role, shape)
-    for name in list_entries(flat, "probes"):
+    for name in list_entries(flat, "probes", listed=True):
         out += probe_params(name, _choice(flat, f"probes.{name}.kind", PROBE_KINDS))
-    for name in list_entries(flat, "judge"):
+    for name in list_entries(flat, "judge", listed=True):
         out += judge_params(name, _choice(flat, f"judge.{name}.kind", JUDGE_KINDS))
     return out
 
@@ -282,7 +316,8 @@ ABSENT_SECTIONS = {"solid": "a part of role solid", "fluid": "a part of role wat
 def phases_of(flat):
     """The phases a scene of these parts has: water -> fluid, wall and gate -> walls, solid -> solid; coupling where
     there are both a solid and water. SceneError if it lists no part (before its sections are checked: they follow
-    from the parts)."""
+    from the parts). A part left out by a literal `when: false` gives none; one whose `when` is an expression counts
+    (the sections come before the expressions: scenes/geometry.check refuses a phase left without its parts)."""
     names = list_entries(flat, "parts")
     if not names:
         raise SceneError("parts: none; allowed: at least one part (a geometry scene is built from its parts, and its "
@@ -308,6 +343,16 @@ def check_required(values):
                                                              "probes": "every probe of its kind needs it",
                                                              "judge": "every judge of its kind needs it"}[
                                                                  key.split(".", 1)[0]])
+
+
+def parse_order(key, text):
+    """(axes, signs) of a part's `order` ('-x y z' -> ((0, 1, 2), (-1, 1, 1))), SceneError naming the key."""
+    words = text.split()
+    axes = [AXES.index(w.lstrip("+-")) if w.lstrip("+-") in AXES else -1 for w in words]
+    if len(words) != 3 or sorted(axes) != [0, 1, 2]:
+        raise SceneError(f"{key} = {text!r}: not an order of the axes; allowed: x, y and z once each, slowest first, "
+                         f"each with '-' for descending (e.g. '-x y z')")
+    return tuple(axes), tuple(-1 if w.startswith("-") else 1 for w in words)
 
 
 def parse_faces(key, text, shape, side):

@@ -1,71 +1,45 @@
-"""Geometry builders, one module per case. A builder declares the phases it has, its geometry keys, and how a
-run of it is judged; it only makes particles and settings (the time loop is simulation.py's).
+"""Scenes: every scene is a file (config/*.yaml, or a user's) that the one builder, geometry.py, turns into particles:
+its parts, probes and judges, its own parameters and the expressions in them. What a built-in case's file cannot
+say (its own reference, columns computed from the state, a prescribed load, relaxation rates) is its case module's,
+cases/<case>.py, named by the file's `scene.case` and declared as a cases.Case record.
 
-A builder module defines, and `Builder` (below) holds, each optional part None where a module has none:
-    PHASES        tuple of phase names ('solid', 'fluid', ...)
-    GEOMETRY      list of schema.Param under 'geometry.'
-    DEFAULTS      {key: value} overriding schema defaults for this builder (optional)
-    CONSERVATIVE  True when nothing feeds energy in (the watchdog then bounds energy growth; optional: False)
-    check(values)               SceneError for inconsistent values (e.g. spacing larger than the body)
-    build(values) -> Built      particles, probes, domain
-    particle_counts(values)     {phase: count} of what build() makes, computed without making it (memory guard)
-    evaluate(series, values)    {measured quantities, reference, error} from the run's time series (optional)
-    sample(solid, probes, vel)  extra time-series columns of the solid, e.g. the tip's velocity (optional)
-    sample_fluid(sim)           extra time-series columns of the water, e.g. a front position (optional)
-A scene whose phases and keys follow from its file (the geometry builder) also has:
-    phases_of(flat)             its phases, from the scene's keys
-    list_params(flat)           the Params of its part, probe and judge lists (geometry/parts.py)
-    resolve_files(values, path) its files' paths made absolute, relative to the scene file
-    ABSENT_SECTIONS             {section: what in the file would give the scene that section}, for the refusal
+`BUILDERS` holds the builders by name (builder.Builder, the interface the loader, the simulation and the run call);
+`interface(builder, values)` is the one a scene runs with, its case module's hooks in it; `build_scene` the
+particles a run starts from.
 """
-from dataclasses import dataclass
-from typing import Callable
+from dataclasses import replace
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
-from . import (antoci_gate, antoci_gate_loaded, antoci_gate_static, cantilever, cantilever_loaded, clamped_plate,
-               dam_break, elastic_gate, geometry, hydrostatic, hydrostatic_plate, lobovsky_dam_break)
+from . import geometry
 from ..errors import SceneError
+from ..geometry.parts import list_entries
+from .builder import Builder  # noqa: F401  (the interface's record)
 from .built import check_layout, without_unreached_clamp
 
 
-@dataclass(frozen=True)
-class Builder:
-    """A builder module's interface (module docstring): what the scene loader, the simulation, the run and the
-    watchdog call, each optional part None (or its stated default) where the module has none."""
-    name: str
-    phases: tuple
-    geometry: list
-    defaults: dict
-    conservative: bool
-    check: Callable
-    build: Callable
-    particle_counts: Callable
-    evaluate: Callable = None
-    sample: Callable = None
-    sample_fluid: Callable = None
-    phases_of: Callable = None
-    list_params: Callable = None
-    resolve_files: Callable = None
-    absent_sections: dict = None
-
-    @classmethod
-    def of(cls, name, module):
-        """The interface of builder module `module`, registered as `name`."""
-        optional = {key: getattr(module, key, None) for key in ("evaluate", "sample", "sample_fluid", "phases_of",
-                                                                "list_params", "resolve_files")}
-        optional["absent_sections"] = getattr(module, "ABSENT_SECTIONS", None)
-        return cls(name, module.PHASES, module.GEOMETRY, getattr(module, "DEFAULTS", {}),
-                   getattr(module, "CONSERVATIVE", False), module.check, module.build, module.particle_counts,
-                   **optional)
-
-
-BUILDERS = {name: Builder.of(name, module) for name, module in (
-    ("cantilever", cantilever), ("clamped_plate", clamped_plate), ("hydrostatic", hydrostatic),
-    ("dam_break", dam_break), ("elastic_gate", elastic_gate), ("antoci_gate", antoci_gate),
-    ("hydrostatic_plate", hydrostatic_plate), ("antoci_gate_static", antoci_gate_static),
-    ("antoci_gate_loaded", antoci_gate_loaded), ("cantilever_loaded", cantilever_loaded),
-    ("lobovsky_dam_break", lobovsky_dam_break), ("geometry", geometry))}
+BUILDERS = {geometry.BUILDER.name: geometry.BUILDER}
 DEFAULT_SCENE = "cantilever"
+
+
+def interface(builder, values):
+    """The Builder a scene of `builder` (a name in BUILDERS) with these values runs with: a geometry scene's with its
+    case module's columns and evaluation (scenes/cases) and conservative when nothing feeds energy in (no water, no
+    gravity, no prescribed load: the watchdog then bounds the energy's growth)."""
+    record = BUILDERS[builder]
+    if builder != "geometry":
+        return record
+    case = geometry.case_of(values)
+    conservative = ("fluid.density" not in values and not any(values["scene.gravity"])
+                    and (case is None or case.load is None))
+    if case is None:
+        return replace(record, conservative=conservative)
+
+    def evaluate(series, values):
+        judged = geometry.evaluate(series, values) if list_entries(values, "judge") else {}
+        return {**judged, **case.evaluate(series, values)} if case.evaluate is not None else judged
+
+    return replace(record, conservative=conservative, sample=case.sample, sample_fluid=case.sample_fluid,
+                   evaluate=evaluate)
 
 
 def build_scene(builder, values):

@@ -18,12 +18,12 @@ class Built:
     # solid.clamp = mirrored: for each solid particle, the moving particle at its mirror image across the clamp
     # face (-1: none, and for moving particles); None if the scene has no plane clamp face
     clamp_mirror: np.ndarray | None = None
-    # a prescribed load on the solid (scenes/clamped_plate.py): force per particle at full load (N, (N, 3)), ramped
-    # in over load_ramp_time (s); damping_rate (1/s) a mass-proportional damping that settles a static case
+    # a prescribed load on the solid (a case module's load: scenes/cases): force per particle at full load (N, 3),
+    # ramped in over load_ramp_time (s); damping_rate (1/s) a mass-proportional damping that settles a static case
     solid_load: np.ndarray | None = None
     load_ramp_time: float = 0.0
     damping_rate: float = 0.0
-    # a static coupled case (scenes/hydrostatic_plate.py): the water's velocities relax at this rate (1/s)
+    # a static coupled case (a case module's relaxation): the water's velocities relax at this rate (1/s)
     fluid_damping_rate: float = 0.0
     # wall particles that hold the water while it settles before t = 0 (fluid.settle_time) and are gone from
     # t = 0: a dam break's gate, a plug in the gap under a gate; None where the tank alone holds the water
@@ -32,8 +32,10 @@ class Built:
     release_velocity: np.ndarray | None = None
     release_travel: float = 0.0
     # a geometry scene's parts (scenes/geometry.py): {name: (phase, indices into that phase's particles)}, phase
-    # 'fluid', 'walls', 'gate' (release_walls) or 'solid'; empty for the built-in scenes
+    # 'fluid', 'walls', 'gate' (release_walls) or 'solid'
     parts: dict = field(default_factory=dict)
+    # the solid particles a mirrored clamp keeps whatever their reach (the parts with unreached_clamp = keep)
+    whole: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     # what the build says about the scene: notes for the log (a part that took the water's sites, a free body) and
     # warnings for the run's (a scene that runs but cannot mean what it says: water that will only fall)
     notes: list = field(default_factory=list)
@@ -77,7 +79,8 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
     68.5 mm of clamp (41 layers at 5/3 mm, 3 within the body's reach): 44 % of its solid particles. Those left out
     become wall particles where they were built (the rigid holder they stand for, as the water saw them before),
     with the mass the coupling gives a solid particle as the water's wall (coupling.solid_wall_mass); in a scene
-    without water they are gone. Particles a probe or a part follows stay. `reach`: the kernel's support 2h plus one
+    without water they are gone. Particles a probe follows stay, and those of a geometry scene's solid parts whose
+    unreached_clamp is 'keep' (Built.whole). `reach`: the kernel's support 2h plus one
     spacing of margin for the root's strain (at the face the body's first layer is dp / 2 from it, a ghost d from
     it: reached while d + dp / 2 < 2h).
 
@@ -101,9 +104,7 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
     keep[fixed[(np.diff(near.start) == 0)[fixed_site.ravel()]]] = False
     for probe in built.probes:
         keep[_solid_indices(probe)] = True
-    for phase, indices in built.parts.values():
-        if phase == "solid":
-            keep[indices] = True
+    keep[built.whole] = True
     dropped = int(solid.count - keep.sum())
     if not dropped:
         return built, 0
@@ -125,9 +126,14 @@ def without_unreached_clamp(built, reach, water_density, lattice_scale):
             pos=np.concatenate([built.walls.pos, holder.pos]), mass=np.concatenate([built.walls.mass, holder.mass]),
             rho0=built.walls.rho0)
     changes["probes"] = [_renumbered(p, new_index) for p in built.probes]
-    changes["parts"] = {name: (phase, new_index[idx] if phase == "solid" else idx)
+    changes["parts"] = {name: (phase, _kept(new_index[idx]) if phase == "solid" else idx)
                         for name, (phase, idx) in built.parts.items()}
     return replace(built, **changes), dropped
+
+
+def _kept(indices):
+    """A part's solid indices after some were left out: the new index of each kept one."""
+    return indices[indices >= 0]
 
 
 def _solid_indices(probe):

@@ -1,23 +1,33 @@
 """A scene from geometry, no code: parts (water, walls, elastic solids, gates) of boxes, cylinders, spheres and
 closed meshes placed in the world, probes at named places and judges of the time series, all in the scene file.
+Every scene is one, the built-in ones too (config/*.yaml).
 
     scene: {builder: geometry, end_time: 1.0}
     numerics: {spacing: 0.02}
+    geometry:
+      depth: {value: 0.55, unit: m, range: "(0, 10]", description: "The water's depth"}
     parts:
       - {name: tank, role: wall, shape: box, size: [3.22, 1.0, 1.0], position: [1.61, 0.0, 0.5], side: outside,
          open: "+z"}
-      - {name: water, role: water, shape: box, size: [1.228, 1.0, 0.55], position: [2.606, 0.0, 0.275]}
+      - {name: water, role: water, shape: box, size: [1.228, 1.0, depth], position: [2.606, 0.0, depth / 2]}
     probes:
       - {name: H2, kind: water_height, position: [0.992, 0.0, 0.0]}
 
-Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometry.lattice_origin + (i + 1/2) dp,
-those its shape holds by its role (geometry/fill.py). Walls, gates and solids take the water's sites where they
-overlap (water poured around an obstacle: _take_from_water) and may not share a site with each other; a solid needs
-three particle layers through for the quadratic fit (the default scheme's). The build's notes (what a part took, a
-free body) and warnings (water outside every tank, a probe that can never read) go to the log and summary.json.
-The phases follow from the parts (geometry/parts.py): a scene without a solid part has no solid arrays, passes,
-topics or channels. Probes (probes.py) and judges (answers/judges.py) are declared beside the parts; the summary
-reports each judge's measure and error.
+The file declares its own parameters and derived quantities under `geometry:` (geometry/declared.py), and its
+lists' numbers and this builder's own keys may be expressions in them (geometry/expressions.py; scene.py evaluates
+them before anything here runs). What a file cannot say is its case module's (scenes/cases, `scene.case`): checked
+with the scene, its load and relaxation applied to what is built here.
+
+Every part sits on one cubic lattice (geometry/lattice.py): its sites at geometry.lattice_origin + (i + 1/2) dp
+(counted from its lattice_offset, moved by its move, numbered in its order, cut to the periodic slab:
+geometry/fill.py), those its shape holds by its role. Walls, gates and solids take the water's sites where they
+overlap (water poured around an obstacle: _take_from_water) and may not share a site with each other. A solid's
+clamp is its part inside its clamp box, or a holder part wholly inside one (_clamp_faces); a solid needs three
+particle layers through for the quadratic fit (the default scheme's; where it has fewer, the linear fit). The
+build's notes (what a part took, a free body) and warnings (water outside every tank, a probe that can never read)
+go to the log and summary.json. The phases follow from the parts (geometry/parts.py): a scene without a solid part
+has no solid arrays, passes, topics or channels. Probes (probes.py) and judges (answers/judges.py) are declared
+beside the parts; the summary reports each judge's measure and error.
 """
 import math
 
@@ -25,19 +35,21 @@ import numpy as np
 
 from ..answers.judges import check_judges, evaluate_judges
 from ..answers.references import cantilever_mode_velocity
-from ..geometry.fill import estimated_sites, part_sites, parts_of, resolve_files  # noqa: F401  (builder interface)
-from ..geometry.lattice import Lattice, dilate, filled, site_keys
-from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, phases_of  # noqa: F401  (builder interface)
+from ..geometry.fill import (cut_to_period, estimated_sites, moved_sites, part_lattice, parts_of, placed_sites,
+                             resolve_files)
+from ..geometry.lattice import Lattice, filled, site_keys
+from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from ..probes import ProbeSpec, probe_columns
 from ..errors import plain
 from ..schema import Param, SceneError
-from ..state import FluidState, SolidState, WallState
+from ..state import FluidState, Probe, SolidState, WallState
+from .builder import Builder
 from .built import Built, clamp_mirror_across
+from .cases import CASES
 from .tank import WATER_STARTS, bottom_compression, compress_column
 
 PHASES = ("solid", "fluid", "walls", "coupling")   # the most a geometry scene has; its own: phases_of(its keys)
-CONSERVATIVE = False
 
 GEOMETRY = [
     Param("geometry.lattice_origin", (0.0, 0.0, 0.0), "m", "The lattice: sites at lattice_origin + (i + 1/2) "
@@ -49,6 +61,21 @@ GEOMETRY = [
           "(the paper's), 'compressed' each water part as the density correction holds a column at rest (compression "
           "linear in depth to the tolerance at its floor), the wall sites beside it compressed the same way "
           "(scenes/tank.py compress_column)", kind="str", choices=WATER_STARTS),
+    Param("geometry.compressed_walls", "beside", "", "With water_start = compressed, the wall sites moved with each "
+          "water column: 'beside' it (within the kernel's reach of its footprint, above its floor) or 'all' above its "
+          "floor (a wall farther off kept level with the water's layers too)", kind="str",
+          choices=("beside", "all")),
+    Param("geometry.period", (0.0, 0.0, 0.0), "m", "The period along each axis (0: not periodic): the domain wraps "
+          "over [lattice_origin, lattice_origin + period] along it (whole spacings, at least twice the neighbour "
+          "cutoff 2h + skin), and every part is cut to that slab: a tank across it has no walls there, water or a "
+          "plate across it runs on into its image", kind="vec3"),
+    Param("geometry.domain_lo", (0.0, 0.0, 0.0), "m", "The domain box's low corner, with domain_hi (both [0, 0, 0]: "
+          "the parts' box and domain_margin beyond it, along a periodic axis the period); water that leaves it is "
+          "held still and counted, and along a periodic axis it places the neighbour lists' cells", kind="vec3"),
+    Param("geometry.domain_hi", (0.0, 0.0, 0.0), "m", "The domain box's high corner (see domain_lo)", kind="vec3"),
+    Param("scene.case", "", "", "The case module (sph_fsi_core/scenes/cases/) with what the file cannot say: its "
+          "own reference, columns computed from the state, a prescribed load, relaxation rates ('': none)",
+          kind="str", choices=("",) + tuple(CASES)),
 ]
 
 DEFAULTS = {"scene.gravity": (0.0, 0.0, -9.81), "scene.end_time": 1.0, "output.timeseries_interval": 1.0e-3,
@@ -70,17 +97,31 @@ def declared_columns(values):
     for name, keys in list_entries(values, "probes").items():
         reading = dict(_ANY_READING) if keys["kind"] == "point" else {k: v for k, v in _ANY_READING.items()
                                                                       if k != "velocity"}
+        if keys["kind"] == "displacement":
+            reading = {"displacement": _ANY_READING["displacement"]}
         out |= set(probe_columns(keys["kind"], name, reading))
     return out
 
 
+def case_of(values):
+    """The scene's case module (scenes/cases), or None."""
+    return CASES[values["scene.case"]] if values["scene.case"] else None
+
+
 def check(values):
-    """Everything that can be refused before building: the parts (sizes, meshes, walls, clamps), the probes and
-    the judges, each naming its key."""
+    """Everything that can be refused before building: the case's own checks, the periodic axes, the parts (sizes,
+    meshes, walls, clamps), the probes and the judges, each naming its key."""
+    case = case_of(values)
+    if case is not None and case.check is not None:
+        case.check(values)
+    _check_period(values)
     parts = parts_of(values)
     roles = {p.role for p in parts}
     by_name = {p.name: p for p in parts}
     for part in parts:
+        part_lattice(part, values)                 # checks its offset and its move
+        moved_sites(part, values)
+        parse_order(part.key("order"), part.keys["order"])
         if part.role in ("wall", "gate"):
             estimated_sites(part, values)          # checks layers and open faces
         if part.role == "solid":
@@ -91,6 +132,10 @@ def check(values):
         if part.role == "gate" and part.keys["release"] == "lifted" and not np.any(part.keys["lift_velocity"]):
             raise SceneError(f"{part.key('lift_velocity')} = [0, 0, 0]: a lifted gate must move; allowed: a non-zero "
                              f"velocity (or release = instant)")
+    for phase, role in (("solid", "solid"), ("fluid", "water")):
+        if f"{phase}.density" in values and role not in roles:
+            raise SceneError(f"parts: every {role} part is left out (its `when`), yet the scene lists one and has its "
+                             f"'{phase}' section; allowed: a {role} part in the scene, or when: false written as such")
     gates = [p for p in parts if p.role == "gate"]
     if len({(p.keys["release"], tuple(p.keys["lift_velocity"]) if p.keys["release"] == "lifted" else ())
             for p in gates}) > 1:
@@ -98,9 +143,9 @@ def check(values):
                          f"one lift velocity); allowed: the same as parts.{gates[0].name}'s")
     for name, keys in list_entries(values, "probes").items():
         kind = keys["kind"]
-        if kind == "point" and "solid" not in roles:
-            raise SceneError(f"probes.{name}.kind = 'point': the scene has no solid part; allowed: a point probe on a "
-                             f"scene with a solid")
+        if kind in ("point", "displacement") and "solid" not in roles:
+            raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no solid part; allowed: a {kind} probe on "
+                             f"a scene with a solid")
         if kind in ("pressure", "water_height") and "water" not in roles:
             raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no water part; allowed: a water probe on "
                              f"a scene with water")
@@ -114,6 +159,26 @@ def check(values):
                 raise SceneError(f"probes.{name}.kind = 'force': the scene has no water part; allowed: a force probe "
                                  f"on a scene with water")
     check_judges(values, set(declared_columns(values)) | set(RUN_COLUMNS))
+
+
+def _check_period(values):
+    """SceneError for a period that is not whole spacings or narrower than the neighbour lists allow (one image is
+    enough only across at least twice the cutoff)."""
+    dp = values["numerics.spacing"]
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * values["numerics.smoothing_ratio"] * dp
+    for axis, period in enumerate(values["geometry.period"]):
+        if period == 0.0:
+            continue
+        n = period / dp
+        if period < 0.0 or abs(n - round(n)) > 1e-6 * max(n, 1.0):
+            raise SceneError(f"geometry.period = {plain(values['geometry.period'])}: {period:g} m along "
+                             f"{'xyz'[axis]} is not a whole number of spacings (numerics.spacing = {dp:g} m); "
+                             f"allowed: 0 (not periodic) or a multiple of the spacing")
+        if round(n) * dp < 2.0 * cutoff - 1e-9 * dp:
+            need = math.ceil(2.0 * cutoff / dp - 1e-9)
+            raise SceneError(f"geometry.period = {plain(values['geometry.period'])}: {round(n)} layers along "
+                             f"{'xyz'[axis]}, narrower than twice the neighbour cutoff (2h + skin); allowed: at least "
+                             f"{need} spacings ({need * dp:g} m)")
 
 
 def particle_counts(values):
@@ -145,24 +210,25 @@ def _overlap(names, sites):
     return None
 
 
-def _claimed(part, sites, lattice):
+def _claimed(part, placed, values):
     """The sites a wall, gate or solid part keeps water out of: its own, and for a body (a solid, or a wall or gate
     built inside its surface: an obstacle, hollow beyond the kernel's reach) every site inside its surface."""
     if part.role == "solid" or part.keys["side"] == "outside":
-        return sites
-    return np.concatenate([sites, filled(lattice, part.shape)])
+        return placed.sites
+    return np.concatenate([placed.sites, cut_to_period(filled(placed.lattice, part.shape) + placed.shift, values)])
 
 
-def _take_from_water(parts, sites, lattice):
+def _take_from_water(parts, placed, values):
     """(sites, notes): the parts' sites with those that walls, gates and solids claim (_claimed) taken from the water
     parts, as DualSPHysics's GenCase lets a later shape take an earlier one's; a note per part that took any. So
     water poured around an obstacle fills only what is left; the water parts' sites stay in their order. SceneError
     naming a water part left with none."""
+    sites = [p.sites for p in placed]
     water = [i for i, p in enumerate(parts) if p.role == "water"]
     others = [i for i, p in enumerate(parts) if p.role != "water"]
     if not water or not others:
         return sites, []
-    claims = {i: _claimed(parts[i], sites[i], lattice) for i in others}
+    claims = {i: _claimed(parts[i], placed[i], values) for i in others}
     everything = np.concatenate([sites[w] for w in water] + list(claims.values()))
     lo = everything.min(axis=0)
     counts = everything.max(axis=0) - lo + 1
@@ -190,21 +256,23 @@ def _take_from_water(parts, sites, lattice):
     return out, notes
 
 
-def _clamp(part, pos, values):
-    """(movable mask, (axis, face position, side +-1) or None) of a solid part: its particles inside the clamp box
-    are its clamp; the clamp face is the box face the body crosses, halfway between the clamp's last layer and the
-    body's first; side is the direction from the clamp into the body."""
+def _clamp_mask(part, pos):
+    """The part's particles inside its clamp box, or None for a part without one (clamp_lo = clamp_hi)."""
     lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
     if not (lo < hi).all():
-        return np.ones(len(pos), dtype=bool), None
+        return None
     clamped = np.all((pos > lo) & (pos < hi), axis=1)
     if not clamped.any():
         raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{plain(lo)}, {plain(hi)}] holds none of the part's "
                          f"particles; allowed: a box around the part's clamped end")
-    if clamped.all():
-        raise SceneError(f"{part.key('clamp_lo')}: the clamp box [{plain(lo)}, {plain(hi)}] holds all of the part's "
-                         f"particles; allowed: a box around its clamped end only")
-    free = pos[~clamped]
+    return clamped
+
+
+def _clamp_face(part, clamped, free):
+    """(axis, face position, side +-1) of the clamp box face the moving particles `free` leave it through: halfway
+    between the clamp's last layer (`clamped`, its positions) and the body's first; side is the direction from the
+    clamp into the body. SceneError unless exactly one face."""
+    lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
     faces = []
     for axis in range(3):
         for side, bound in ((-1, lo[axis]), (1, hi[axis])):
@@ -217,36 +285,65 @@ def _clamp(part, pos, values):
                          f"other sides)")
     axis, side = faces[0]
     if side > 0:
-        face = 0.5 * (pos[clamped, axis].max() + free[:, axis].min())
+        face = 0.5 * (clamped[:, axis].max() + free[:, axis].min())
     else:
-        face = 0.5 * (pos[clamped, axis].min() + free[:, axis].max())
-    return ~clamped, (axis, face, side)
+        face = 0.5 * (clamped[:, axis].min() + free[:, axis].max())
+    return axis, face, side
 
 
-def _solid(parts, sites, lattice, values, notes, warnings):
-    """The solid's state, clamp mirror map, {part: indices} and the body's thickness check; a note for each part
-    without a clamp box (a free body), a warning where nothing can hold one up."""
+def _clamp_faces(parts, positions, clamped, dp):
+    """({part: its clamp face}, {part: the holder part whose face holds it}). A part partly inside its clamp box is
+    held by its own clamp; a part wholly inside its box is a holder (a clamp of its own shape, a beam's root block
+    taller than the beam), whose face is the one the other parts' moving particles touching it (within 1.5 dp of its
+    particles' box) leave it through."""
+    faces, held_by = {}, {}
+    for k, part in enumerate(parts):
+        c = clamped[k]
+        if c is None:
+            continue
+        if not c.all():
+            faces[k] = _clamp_face(part, positions[k][c], positions[k][~c])
+            held_by[k] = k
+            continue
+        lo, hi = positions[k].min(axis=0) - 1.5 * dp, positions[k].max(axis=0) + 1.5 * dp
+        touching, free = [], []
+        for j, pos in enumerate(positions):
+            moving = pos if clamped[j] is None else pos[~clamped[j]]
+            near = moving[np.all((moving >= lo) & (moving <= hi), axis=1)] if j != k else moving[:0]
+            if len(near):
+                touching.append(j)
+                free.append(near)
+        if not touching:
+            raise SceneError(f"{part.key('clamp_lo')}: the clamp box holds all of the part's particles, and no moving "
+                             f"solid particle of another part touches it; allowed: a box around the part's clamped end "
+                             f"only, or a part wholly clamped (a holder) against another solid part")
+        faces[k] = _clamp_face(part, positions[k], np.concatenate(free))
+        held_by[k] = k
+        for j in touching:
+            held_by.setdefault(j, k)
+    return faces, held_by
+
+
+def _solid(parts, placed, values, notes, warnings):
+    """The solid's state, clamp mirror map and {part: indices}; a note for each part that no clamp holds (a free
+    body), a warning where nothing can hold one up. A body under three layers through runs on the linear fit where
+    the quadratic one is not determined, and the solid's phase says so (solid/phase.py)."""
     dp = values["numerics.spacing"]
-    positions, movables, mirrors, index = [], [], [], {}
-    velocities = []
-    offset = 0
-    for part, s in zip(parts, sites):
-        pos = lattice.positions(s)
-        movable, face = _clamp(part, pos, values)
-        if face is None:
+    positions = [p.positions() for p in placed]
+    clamped = [_clamp_mask(part, pos) for part, pos in zip(parts, positions)]
+    faces, held_by = _clamp_faces(parts, positions, clamped, dp)
+    offsets = np.cumsum([0] + [len(p) for p in positions])
+    velocities, movables, index = [], [], {}
+    for k, (part, pos) in enumerate(zip(parts, positions)):
+        movable = np.ones(len(pos), dtype=bool) if clamped[k] is None else ~clamped[k]
+        face = faces.get(held_by.get(k, -1))
+        if k not in held_by:
             notes.append(f"parts.{part.name}: no clamp box (clamp_lo = clamp_hi): a free body"
                          + (" (solid.clamp = mirrored mirrors only the parts with one)"
                             if values["solid.clamp"] == "mirrored" else ""))
             warning = _unheld(part, values)
             if warning:
                 warnings.append(warning)
-        if values["solid.velocity_gradient"] == "quadratic":
-            grid = np.zeros(tuple(s.max(axis=0) - s.min(axis=0) + 3), dtype=bool)
-            grid[tuple((s - s.min(axis=0) + 1).T)] = True
-            if not (grid & ~dilate(~grid, 1)).any():
-                raise SceneError(f"parts.{part.name}: under three particle layers through everywhere at "
-                                 f"numerics.spacing = {dp:g} m; allowed: a finer spacing (the quadratic fit of "
-                                 f"solid.velocity_gradient = quadratic needs three), or solid.scheme = gray2001")
         vel = np.tile(np.asarray(part.keys["velocity"], dtype=np.float64), (len(pos), 1))
         tip = np.asarray(part.keys["mode_tip_velocity"], dtype=np.float64)
         if tip.any():
@@ -255,25 +352,22 @@ def _solid(parts, sites, lattice, values, notes, warnings):
                                  f"clamp_lo and clamp_hi around the clamped end (or mode_tip_velocity = [0, 0, 0])")
             axis, plane, side = face
             along = side * (pos[:, axis] - plane)
-            length = float(along[movable].max()) + 0.5 * dp
+            length = part.keys["mode_length"] or float(along[movable].max()) + 0.5 * dp
             speed = float(np.linalg.norm(tip))
             profile = cantilever_mode_velocity(np.clip(along, 0.0, None), length, speed)
             vel[movable] += profile[movable, None] * (tip / speed)
-        mirror = np.full(len(pos), -1, dtype=np.int64)
-        if face is not None:
-            mirror = clamp_mirror_across(pos, movable, face[0], face[1], dp)
-            mirror[mirror >= 0] += offset
         vel[~movable] = 0.0
-        positions.append(pos)
         movables.append(movable)
-        mirrors.append(mirror)
         velocities.append(vel)
-        index[part.name] = np.arange(offset, offset + len(pos))
-        offset += len(pos)
+        index[part.name] = np.arange(offsets[k], offsets[k + 1])
     pos = np.concatenate(positions)
-    solid = SolidState.at_rest(pos, np.concatenate(movables), values["solid.density"], dp)
+    movable = np.concatenate(movables)
+    solid = SolidState.at_rest(pos, movable, values["solid.density"], dp)
     solid.vel[:] = np.concatenate(velocities)
-    mirror = np.concatenate(mirrors)
+    mirror = np.full(len(pos), -1, dtype=np.int64)
+    for k, (axis, plane, _) in faces.items():
+        rows = slice(offsets[k], offsets[k + 1])
+        mirror[rows] = clamp_mirror_across(pos, movable, axis, plane, dp)[rows]
     return solid, (mirror if (mirror >= 0).any() else None), index
 
 
@@ -292,31 +386,36 @@ def _unheld(part, values):
               "and leaves the domain; give it a clamp box, or a density below the water's")
 
 
-def _compress(values, water_sites, wall_sites, lattice):
-    """geometry.water_start = compressed: each water part's column compressed as it sits at rest, and the wall
-    sites beside it (within the kernel's reach of its footprint, over its height) moved the same way."""
+def _compress(values, water, walls):
+    """geometry.water_start = compressed: (water positions, wall positions) with each water part's column compressed
+    as it sits at rest, and the wall sites beside it (within the kernel's reach of its footprint, above its floor; or
+    all above its floor: geometry.compressed_walls) moved the same way. `water`, `walls`: each part's fill.Placed; a
+    column's floor and height are its sites' bottom face and its whole layers."""
     dp = values["numerics.spacing"]
     compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
     reach = 2.0 * values["numerics.smoothing_ratio"] * dp + dp
-    water_pos = [lattice.positions(s) for s in water_sites]
-    walls = [lattice.positions(s) for s in wall_sites]
-    for pos in water_pos:
-        floor = pos[:, 2].min() - 0.5 * dp
-        height = pos[:, 2].max() + 0.5 * dp - floor
+    water_pos = [p.positions() for p in water]
+    wall_pos = [p.positions() for p in walls]
+    for placed, pos in zip(water, water_pos):
+        floor = placed.floor()
+        height = (int(placed.sites[:, 2].max()) - int(placed.sites[:, 2].min()) + 1) * dp
         lo, hi = pos[:, :2].min(axis=0) - reach, pos[:, :2].max(axis=0) + reach
-        for w in walls:
-            beside = np.all((w[:, :2] > lo) & (w[:, :2] < hi), axis=1) & (w[:, 2] > floor)
+        for w in wall_pos:
+            beside = w[:, 2] > floor
+            if values["geometry.compressed_walls"] == "beside":
+                beside &= np.all((w[:, :2] > lo) & (w[:, :2] < hi), axis=1)
             w[beside, 2] = compress_column(w[beside, 2], floor, height, compression)
         pos[:, 2] = compress_column(pos[:, 2], floor, height, compression)
-    return water_pos, walls
+    return water_pos, wall_pos
 
 
 def build(values):
     dp = values["numerics.spacing"]
     lattice = Lattice(dp, values["geometry.lattice_origin"])
     parts = parts_of(values)
-    sites = [part_sites(p, lattice, values) for p in parts]
-    sites, notes = _take_from_water(parts, sites, lattice)
+    placed = [placed_sites(p, values) for p in parts]
+    sites, notes = _take_from_water(parts, placed, values)
+    placed = [p.with_sites(s) for s, p in zip(sites, placed)]
     overlap = _overlap([p.name for p in parts], sites)
     if overlap is not None:
         a, b, shared, where, pairs = overlap
@@ -324,17 +423,18 @@ def build(values):
         raise SceneError(f"parts.{b}: overlaps parts.{a} at {shared} lattice site(s), e.g. "
                          f"{plain(lattice.positions(where[None])[0])} m{more}; allowed: parts that share "
                          f"no site at numerics.spacing = {dp:g} m (move or shrink one)")
-    by_role = {role: [(p, s) for p, s in zip(parts, sites) if p.role == role] for role in ("water", "wall", "gate",
-                                                                                           "solid")}
+    by_role = {role: [(p, q) for p, q in zip(parts, placed) if p.role == role]
+               for role in ("water", "wall", "gate", "solid")}
     scale = lattice_density_scale(values["numerics.smoothing_ratio"])
     built = Built()
     index = {}
     water = by_role["water"]
     walls = by_role["wall"] + by_role["gate"]
-    water_pos = [lattice.positions(s) for _, s in water]
-    wall_pos = [lattice.positions(s) for _, s in walls]
     if water and values["geometry.water_start"] == "compressed":
-        water_pos, wall_pos = _compress(values, [s for _, s in water], [s for _, s in walls], lattice)
+        water_pos, wall_pos = _compress(values, [q for _, q in water], [q for _, q in walls])
+    else:
+        water_pos = [q.positions() for _, q in water]
+        wall_pos = [q.positions() for _, q in walls]
     if water:
         rho0 = values["fluid.density"]
         built.fluid = FluidState.at_rest(np.concatenate(water_pos), rho0, dp, mass_scale=scale)
@@ -365,14 +465,22 @@ def build(values):
             offset += len(pos)
     if by_role["solid"]:
         built.solid, built.clamp_mirror, solid_index = _solid([p for p, _ in by_role["solid"]],
-                                                              [s for _, s in by_role["solid"]], lattice, values,
-                                                              notes, built.warnings)
+                                                              [q for _, q in by_role["solid"]], values, notes,
+                                                              built.warnings)
         index.update({name: ("solid", idx) for name, idx in solid_index.items()})
+        whole = [solid_index[p.name] for p, _ in by_role["solid"] if p.keys["unreached_clamp"] == "keep"]
+        built.whole = np.concatenate(whole) if whole else np.zeros(0, dtype=np.int64)
     built.parts = index
     built.notes = notes
+    built.period = np.array(values["geometry.period"], dtype=np.float64)
     built.probes = _probes(values, built, index)
     built.domain_lo, built.domain_hi = _domain(values, built)
     built.warnings += _falling_water(values, built) + _dry_probes(values, built)
+    case = case_of(values)
+    if case is not None and case.load is not None and built.solid is not None:
+        built.solid_load, built.load_ramp_time = case.load(values, built)
+    if case is not None and case.relaxation is not None:
+        built.damping_rate, built.fluid_damping_rate = case.relaxation(values, built)
     return built
 
 
@@ -482,19 +590,29 @@ def _lift_travel(built, values):
 
 
 def _domain(values, built):
-    """The domain box: every particle's box (a lifted gate's whole travel included), `geometry.domain_margin` beyond
-    it (0: a tenth of its largest extent, at least 10 h)."""
+    """The domain box: geometry.domain_lo .. domain_hi where the scene gives them, else every particle's box (a
+    lifted gate's whole travel included) and `geometry.domain_margin` beyond it (0: a tenth of its largest extent, at
+    least 10 h), along a periodic axis the period from the lattice's origin. Along a periodic axis the box places the
+    neighbour lists' cells (numerics/neighbours.cell_grid), so its bits are the run's."""
     pos = [s.pos for s in (built.solid, built.fluid, built.walls, built.release_walls) if s is not None]
     if built.release_velocity is not None:
         travel = built.release_velocity / np.linalg.norm(built.release_velocity) * built.release_travel
         pos.append(built.release_walls.pos + travel)
+    given_lo, given_hi = np.array(values["geometry.domain_lo"]), np.array(values["geometry.domain_hi"])
+    if (given_lo != given_hi).any():
+        return given_lo, given_hi
     everything = np.concatenate(pos)
     lo, hi = everything.min(axis=0), everything.max(axis=0)
     margin = values["geometry.domain_margin"]
     if margin == 0.0:
         h = values["numerics.smoothing_ratio"] * values["numerics.spacing"]
         margin = max(0.1 * float((hi - lo).max()), 10.0 * h)
-    return lo - margin, hi + margin
+    lo, hi = lo - margin, hi + margin
+    origin = values["geometry.lattice_origin"]
+    for axis, period in enumerate(values["geometry.period"]):
+        if period > 0.0:
+            lo[axis], hi[axis] = origin[axis], origin[axis] + period
+    return lo, hi
 
 
 def _probes(values, built, index):
@@ -508,6 +626,16 @@ def _probes(values, built, index):
             at = candidates[np.argmin(((pos[candidates] - np.asarray(keys["position"])) ** 2).sum(axis=1))]
             out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64), index=int(at),
                                  reference_position=pos[at].copy()))
+        elif kind == "displacement":
+            half = 0.5 * np.asarray(keys["size"], dtype=np.float64)
+            pos = built.solid.pos
+            inside = built.solid.movable & np.all(np.abs(pos - np.asarray(keys["position"])) <= half, axis=1)
+            idx = np.flatnonzero(inside)
+            if not len(idx):
+                raise SceneError(f"probes.{name}: no moving solid particle inside the box of size {plain(2 * half)} m "
+                                 f"around position {plain(keys['position'])} m; allowed: a box around some of the "
+                                 f"solid's moving particles")
+            out.append(Probe(name, "solid", idx, pos[idx].mean(axis=0)))
         elif kind == "force":
             phase, idx = index[keys["part"]]
             out.append(ProbeSpec(name, kind, phase=phase, indices=idx, part=keys["part"]))
@@ -519,3 +647,9 @@ def _probes(values, built, index):
 def evaluate(series, values):
     """The scene's judges (answers/judges.py): each one's measure, reference and error; `error` is the first's."""
     return evaluate_judges(series, values)
+
+
+# the builder's interface (scenes/builder.py); conservative per scene: scenes.interface
+BUILDER = Builder("geometry", PHASES, GEOMETRY, DEFAULTS, conservative=False, check=check, build=build,
+                  particle_counts=particle_counts, evaluate=evaluate, phases_of=phases_of, list_params=list_params,
+                  resolve_files=resolve_files, absent_sections=ABSENT_SECTIONS, expressions=True)

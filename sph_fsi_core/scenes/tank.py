@@ -1,22 +1,22 @@
-"""Shared geometry of the fluid scenes: lattice blocks and the wall particles of an open-topped tank.
+"""What the water's scenes share: a column at rest (its breathing mode, its relaxation, its compression as the density
+correction holds it) and the tank scenes' refusals and checks (whole layers, a column that fits its tank, water
+that crossed a wall). The geometry builder compresses a water part with it (geometry.water_start); the case modules
+(scenes/cases) judge and relax with it.
 
-Everything sits on one cubic lattice of spacing dp with sites at (i + 1/2) dp, so the fluid at rest and the walls
-continue each other's lattice and the summation density (1) of a fluid particle next to a wall is rho0, as in the
-bulk. The tank's inside is x in [0, length], z >= 0 and, across, y in [0, span]: periodic along y (a slab of
-`span` with no side walls) or closed by walls at y = 0 and y = span.
+A tank scene's inside is x in [0, length], z >= 0 and, across, y in [0, span]: periodic along y (a slab of `span`
+with no side walls) or closed by walls at y = 0 and y = span.
 """
 import math
 
 import numpy as np
 
-from ..numerics.kernels import lattice_density_scale
 from ..schema import SceneError
 
 
 def breathing_period(height, gravity, tolerance):
     """T_b = 4 H / c_b, c_b = sqrt(g H / tolerance), s: a column's first mode as a quarter-wave resonator whose
     compressibility is what the density tolerance allows (the density correction acts only above it). It sets
-    the water's relaxation rate in the static cases (scenes/hydrostatic_plate.py, antoci_gate_static.py); without
+    the water's relaxation rate in the static cases (the hydrostatic plate, Antoci's gate at rest); without
     gravity, 9.81 m/s^2 (the rate only shortens the way to rest)."""
     g = math.sqrt(sum(x * x for x in gravity)) or 9.81
     return 4.0 * height / math.sqrt(g * height / tolerance)
@@ -55,17 +55,6 @@ def compress_column(z, floor, height, compression):
     return z - compression * (height * u - 0.5 * u * u) / height
 
 
-def build_water_start(values, floor, height, *points):
-    """geometry.water_start: with 'compressed', the heights of each (N, 3) array in `points` (the water and the walls
-    beside it) moved in place by compress_column over `floor`, `height` deep, at the bottom compression the scene's
-    tolerance holds; with 'lattice', nothing."""
-    if values["geometry.water_start"] != "compressed":
-        return
-    compression = bottom_compression(values["fluid.density_tolerance"], values["fluid.tolerance_on"])
-    for p in points:
-        p[:, 2] = compress_column(p[:, 2], floor, height, compression)
-
-
 def whole_layers(extent, spacing, key, at_least=1):
     """Number of lattice layers in `extent`, or SceneError if it is not a whole number of spacings."""
     n = extent / spacing
@@ -77,35 +66,6 @@ def whole_layers(extent, spacing, key, at_least=1):
         raise SceneError(f"numerics.spacing = {spacing:g} m is too coarse for {key} = {extent:g} m; allowed: at "
                          f"most {extent / at_least:g} m ({at_least} particle layers)")
     return n
-
-
-def lattice(nx, ny, nz, spacing, offset=(0.0, 0.0, 0.0)):
-    """Sites (i + 1/2) dp + offset for i < nx, j < ny, k < nz, x slowest (neighbours stay close in memory)."""
-    axes = [(np.arange(n) + 0.5) * spacing + o for n, o in zip((nx, ny, nz), offset)]
-    return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-
-
-def tank_walls(nx, ny, nz_wall, layers, spacing, periodic_y):
-    """Wall sites of a tank whose inside is nx x ny cells wide and nz_wall high, `layers` thick below and around.
-
-    Periodic in y: floor and end walls span the slab's ny sites only. Closed: side walls at y < 0 and y > span too.
-    """
-    pad_y = 0 if periodic_y else layers
-    i = np.arange(-layers, nx + layers)
-    j = np.arange(-pad_y, ny + pad_y)
-    k = np.arange(-layers, nz_wall)
-    ii, jj, kk = np.meshgrid(i, j, k, indexing="ij")
-    outside = (ii < 0) | (ii >= nx) | (kk < 0)
-    if not periodic_y:
-        outside |= (jj < 0) | (jj >= ny)
-    sites = np.stack([ii[outside], jj[outside], kk[outside]], axis=-1)
-    return (sites + 0.5) * spacing
-
-
-def tank_wall_count(nx, ny, nz_wall, layers, periodic_y):
-    """len(tank_walls(...)) without making them: the padded block less the tank's inside."""
-    pad_y = 0 if periodic_y else layers
-    return (nx + 2 * layers) * (ny + 2 * pad_y) * (nz_wall + layers) - nx * ny * nz_wall
 
 
 def column_sites(values):
@@ -133,26 +93,6 @@ def check_column_in_tank(values, gate_layers=0):
                          f"at least geometry.column_height")
 
 
-def column_in_tank_counts(values, nx, nz, ntank):
-    """column_in_tank's particle counts per phase, without making them."""
-    dp = values["numerics.spacing"]
-    ny = values["geometry.span_layers"]
-    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
-    return {"fluid": nx * ny * nz, "walls": tank_wall_count(ntank, ny, nz_wall, values["geometry.wall_layers"],
-                                                            values["geometry.periodic_y"])}
-
-
-def period_and_box(nx, ny, spacing, layers, top, periodic_y, margin):
-    """(period, domain_lo, domain_hi): y periodic over the slab if asked; a box `margin` beyond the walls."""
-    span = ny * spacing
-    period = np.array([0.0, span if periodic_y else 0.0, 0.0])
-    lo = np.array([-(layers * spacing) - margin, 0.0 if periodic_y else -(layers * spacing) - margin,
-                   -(layers * spacing) - margin])
-    hi = np.array([nx * spacing + layers * spacing + margin, span if periodic_y else span + layers * spacing + margin,
-                   top + margin])
-    return period, lo, hi
-
-
 def outside_tank(pos, length, span, periodic_y, spacing):
     """Mask of fluid particles that crossed a wall: whose centre is past the centres of the wall's first particle
     layer (dp/2 beyond the wall's surface) below the floor, behind an end wall or (closed) a side wall.
@@ -166,27 +106,3 @@ def outside_tank(pos, length, span, periodic_y, spacing):
     if not periodic_y:
         out |= (pos[:, 1] < -m) | (pos[:, 1] > span + m)
     return out
-
-
-def column_in_tank(values, nx, nz, ntank, margin):
-    """A scene's Built: water on nx x ny x nz sites at the tank's upstream end (x from 0), in a tank ntank sites long
-    with the walls the values ask for (layers, height, periodic or closed across), and a domain `margin` beyond.
-    A column shorter than the tank gets a gate to settle behind (Built.release_walls): `wall_layers` thick (as many
-    as fit before the far wall) at its front face, as high as the walls."""
-    from ..state import FluidState, WallState
-    from .built import Built
-    dp = values["numerics.spacing"]
-    ny = values["geometry.span_layers"]
-    layers = values["geometry.wall_layers"]
-    periodic = values["geometry.periodic_y"]
-    nz_wall = int(math.ceil(values["geometry.wall_height"] / dp - 1e-9))
-    rho0 = values["fluid.density"]
-    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
-    fluid = FluidState.at_rest(lattice(nx, ny, nz, dp), rho0, dp, mass_scale=scale)
-    walls = WallState.lattice(tank_walls(ntank, ny, nz_wall, layers, dp, periodic), rho0, dp, mass_scale=scale)
-    period, lo, hi = period_and_box(ntank, ny, dp, layers, nz_wall * dp, periodic, margin=margin)
-    gate = None
-    if ntank > nx:
-        gate = WallState.lattice(lattice(min(layers, ntank - nx), ny, nz_wall, dp, offset=(nx * dp, 0.0, 0.0)), rho0,
-                                 dp, mass_scale=scale)
-    return Built(fluid=fluid, walls=walls, domain_lo=lo, domain_hi=hi, period=period, release_walls=gate)

@@ -1,4 +1,4 @@
-"""Where the solid's static error comes from, on case clamp_effect's strips (scenes/clamped_plate.py): each rung's
+"""Where the solid's static error comes from, on case clamp_effect's strips (config/clamped_plate.yaml): each rung's
 error split by least squares over the ladder into parts that depend on the strip's length in known ways.
 
 For each rung the plane-strain FE (fe_reference.strip_static, elements of t / 16) gives three numbers:
@@ -76,7 +76,7 @@ def beam_terms(values, probe_points, cache=None):
     file, when given). phi = 1 - w_EB / w_FE at the layer (x = L - dp / 2). `probe_points`: the layer's particles
     as the scene places them (the section centred on y = z = 0)."""
     import json
-    from ..scenes.cantilever_loaded import total_load
+    from ..scenes.cases.cantilever_loaded import total_load
     from ..answers.fe_reference import cantilever_fe_static_deflection
     length, thickness, width = (values[f"geometry.{k}"] for k in ("length", "thickness", "width"))
     e, nu, dp = values["solid.young_modulus"], values["solid.poisson_ratio"], values["numerics.spacing"]
@@ -107,24 +107,26 @@ def decompose(rungs, summaries, out_dir=None):
     "fit_length": (a, b, residuals), "fit_phi": (a, g, residuals)}}. `out_dir`: where the runs are (the beams' FE
     values are kept there)."""
     from ..scene import load_scene
-    from ..scenes import cantilever_loaded, clamped_plate
+    from ..scenes import BUILDERS
+    from ..scenes.cases import probe_named
     out = {}
     for r in rungs:
         s = summaries.get(r.key)
         if r.case != "clamp_effect" or s is None or s.get("error_signed") is None:
             continue
-        values = load_scene(r.scene, list(r.overrides.items())).values
+        spec = load_scene(r.scene, list(r.overrides.items()))
+        values = spec.values
         if r.scene == "cantilever_loaded":
-            built = cantilever_loaded.build(values)
-            points = built.solid.pos[built.probes[0].indices]
+            built, _ = spec.build()
+            points = built.solid.pos[probe_named(built.probes, "tip").indices]
             cache = Path(out_dir) / "runs" / r.case / r.label / "fe3d_static.json" if out_dir else None
             reference, phi = beam_terms(values, points, cache)
             ratio = values["geometry.length"] / values["geometry.thickness"]
             out.setdefault(r.label.split("_L_over_H_")[0], {"rows": []})["rows"].append(
                 (ratio, s["tip_deflection_m"] / reference - 1.0, phi, float("nan")))
             continue
-        built = clamped_plate.build(values)
-        probe = built.probes[0]
+        built = BUILDERS[spec.builder].build(values)
+        probe = built.probes[0]                        # the plate's one: midspan, or free_end for a cantilever
         points = [(x, z) for x, _, z in built.solid.pos[probe.indices]]
         reference, phi, sensitivity = strip_terms(values, points)
         measured = s["midspan_deflection_m"] if "midspan_deflection_m" in s else s["free_end_deflection_m"]

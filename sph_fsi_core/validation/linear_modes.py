@@ -312,8 +312,8 @@ def _built(scene, overrides, clamp):
     """(values, built) of a scene with solid.clamp = `clamp`."""
     from ..scene import load_scene
     from ..scenes import BUILDERS
-    values = load_scene(scene, [f"solid.clamp={clamp}", *overrides]).values
-    return values, BUILDERS[scene].build(values)
+    spec = load_scene(scene, [f"solid.clamp={clamp}", *overrides])
+    return spec.values, BUILDERS[spec.builder].build(spec.values)
 
 
 def _built_stiffness(values, built, clamp, **kw):
@@ -400,7 +400,7 @@ def clamped_plate_deflection(overrides=(), **kw):
     """The clamped_plate scene's deflection assembled (static_displacement) against its plane-strain FE reference,
     as the scene judges it: mid-span clamped at both ends, the free end's probe (x = L - dp / 2) with
     geometry.supports = clamped_free: a dict."""
-    from ..scenes import clamped_plate
+    from ..scenes.cases import clamped_plate
     from ..answers.fe_reference import cantilever_strip_fe_deflection, clamped_plate_fe_deflection
     u, built, v = static_displacement("clamped_plate", overrides, **kw)
     deflection = float(u[built.probes[0].indices, 2].mean())
@@ -419,8 +419,8 @@ def clamped_plate_deflection(overrides=(), **kw):
 
 def gate_loaded_deflection(overrides=(), **kw):
     """The antoci_gate_loaded scene's free-end deflection along the water's push, assembled, against its
-    plane-strain FE reference (scenes/gate.py, static_tip_reference): a dict."""
-    from ..scenes import antoci_gate_loaded, gate
+    plane-strain FE reference (scenes/cases/gate.py, static_tip_reference): a dict."""
+    from ..scenes.cases import antoci_gate_loaded, gate
     u, built, v = static_displacement("antoci_gate_loaded", overrides, **kw)
     push = 1.0 if v["geometry.mirror"] else -1.0
     deflection = float(push * u[built.probes[0].indices, 0].mean())

@@ -35,7 +35,7 @@ def measured_against(s):
         ref = f"rho g H = {s['reference_floor_pressure_pa']:.1f} Pa"
     elif s.get("front_rms_relative_error") is not None:
         measured = f"front RMS {100 * s['front_rms_relative_error']:.1f} %"
-        ref = "Lobovsky et al. 2014, T >= 1" if s.get("builder") == "lobovsky_dam_break" else "Martin & Moyce 1952"
+        ref = "Lobovsky et al. 2014, T >= 1" if s.get("scene") == "lobovsky_dam_break" else "Martin & Moyce 1952"
     elif s.get("tip_x_peak_m") is not None:
         measured = f"tip x peak {1e3 * s['tip_x_peak_m']:.1f} mm at {s['tip_x_peak_time_s']:.3f} s"
         ref = f"Antoci 2007: {1e3 * s['tip_x_exp_peak_m']:.1f} mm at {s['tip_x_exp_peak_time_s']:.3f} s"

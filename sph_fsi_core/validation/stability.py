@@ -99,9 +99,9 @@ def solid_cases():
 
 def fluid_cases():
     """Cases of the fluid scenes that exist (the fluid may be absent from an older checkout)."""
-    from ..scenes import BUILDERS
+    from ..scene import builtin_scenes
     cases = []
-    if "dam_break" in BUILDERS:
+    if "dam_break" in builtin_scenes():
         cases += [
             Case("dam break, tolerance 0.1 %", "dam_break", {"fluid.density_tolerance": 0.001}, "stops",
                  end_time=0.05, why="a very tight density criterion: more iterations, capped and reported"),
@@ -118,11 +118,12 @@ def gate_cases():
     A fixed 0.04 s: the fluid sets the time scale here (the water reaches the gate's free end and pushes it), not
     the gate's own period; the solid sub-steps follow the solid's sound speed, so steel costs ~50x rubber.
     """
-    from ..scenes import BUILDERS
-    if "elastic_gate" not in BUILDERS:
+    from ..scene import builtin_scenes
+    scenes = builtin_scenes()
+    if "elastic_gate" not in scenes:
         return []
-    # at 2 mm the gate is two particles thick, too few for the default scheme's quadratic fit (scenes/gate.py
-    # refuses it): these cases run the paper's scheme, as they were run before it became the default
+    # at 2 mm the gate is two particles thick, too few for the default scheme's quadratic fit (the gate's case
+    # refuses it: scenes/cases/gate.py): these cases run the paper's scheme, as they were run before it became the default
     base = {"numerics.spacing": 0.002, "geometry.gate_clamp_height": 0.004, "coupling.model": "pressure",
             "solid.scheme": "gray2001"}
     cases = []
@@ -134,7 +135,7 @@ def gate_cases():
     cases.append(Case("gate with no gap", "elastic_gate", {**base, "geometry.gate_clearance": 0.0}, "stable",
                       end_time=0.04, ci=True,
                       why="the gate stands on the floor: no flow under it, the whole column leans on the plate"))
-    if "antoci_gate" in BUILDERS:
+    if "antoci_gate" in scenes:
         cases.append(Case("Antoci's gate, solid.cfl 0.6 (a runaway solid)", "antoci_gate",
                           {"numerics.spacing": 0.005 / 3, "solid.cfl": 0.6}, "diverged", end_time=0.05,
                           why="a solid step above its stable limit (the scheme's cfl is 0.25; 0.35 is marginal here: "
@@ -145,8 +146,8 @@ def gate_cases():
 
 
 def tall_column_cases():
-    from ..scenes import BUILDERS
-    if "dam_break" not in BUILDERS:
+    from ..scene import builtin_scenes
+    if "dam_break" not in builtin_scenes():
         return []
     a = 0.05715
     return [Case("dam break, 10x taller column", "dam_break",
@@ -251,8 +252,10 @@ def _energy_drift(run_dir):
 
 def _conservative(scene):
     """Energy drift means something only where nothing feeds energy in (no gravity work, no inflow)."""
-    from ..scenes import BUILDERS
-    return BUILDERS[scene].conservative
+    from ..scene import load_scene
+    from ..scenes import interface
+    spec = load_scene(scene)
+    return interface(spec.builder, spec.values).conservative
 
 
 def _gate_response(run_dir):

@@ -1,5 +1,5 @@
 """Water at rest on a clamped plate, coupled, against the same plate under the water's exact pressure and FE
-(scenes/hydrostatic_plate.py, scenes/clamped_plate.py): a small soft plate so CI can afford it (0.2 m x 0.02 m, 4
+(config/hydrostatic_plate.yaml, config/clamped_plate.yaml): a small soft plate so CI can afford it (0.2 m x 0.02 m, 4
 particles through, L/t = 10 as test_solid_static_quick's, under 0.1 m of water). The benchmark's ladder is
 `sph-fsi validate hydrostatic_plate` (docs/validation/studies/hydrostatic_plate/REPORT.md)."""
 import pytest

@@ -1,4 +1,4 @@
-"""The solid alone under a prescribed load, settled, against plane-strain FE (scenes/clamped_plate.py): a short
+"""The solid alone under a prescribed load, settled, against plane-strain FE (config/clamped_plate.yaml): a short
 plate (L/t = 10, 4 particles through) so CI can afford it. The full ladder is `sph-fsi validate solid_static`
 (docs/validation/studies/solid_static/REPORT.md); the errors it measures are an open problem
 (docs/validation/OPEN.md)."""
@@ -49,11 +49,11 @@ def test_cantilever_strip_has_one_clamp_and_settles_close_to_fe():
     """geometry.supports = clamped_free (case clamp_effect's quick rung, L/t = 5, 4 particles through): clamp layers
     behind x = 0 only, the probe on the free end's last column, settled within +1.9 % of plane-strain FE at the
     same point (docs/validation/studies/clamp_effect)."""
-    from sph_fsi_core.scenes import clamped_plate
+    from sph_fsi_core.scenes import BUILDERS
     from sph_fsi_core.validation.cases import all_rungs
     rung = next(r for r in all_rungs(studies=True) if r.key == "clamp_effect/clamped_free_L_over_t_5")
     spec = load_scene("clamped_plate", list(rung.overrides.items()) + [("scene.end_time", rung.end_time)])
-    built = clamped_plate.build(spec.values)
+    built = BUILDERS[spec.builder].build(spec.values)
     pos, movable = built.solid.pos, built.solid.movable
     span, dp = spec.values["geometry.span"], spec.values["numerics.spacing"]
     assert pos[:, 0].max() == pytest.approx(span - 0.5 * dp) and (pos[~movable, 0] < 0.0).all()

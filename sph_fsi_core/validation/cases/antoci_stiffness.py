@@ -4,7 +4,7 @@ load falling too fast?
 The default scheme at 1.25 mm (4 particles through the gate) with the published E = 12 MPa, and softer, 8.4 and
 6 MPa (nu 0.4 throughout), and the published material with the clamp line 3 mm higher (a longer free length, the
 clamp's top kept). For each: the free end's x peak and its time, and the water's level at the back wall and just
-behind the gate (scenes/antoci_gate.py's level probes) against time. A gate alone would peak later as sqrt(m / k):
+behind the gate (config/antoci_gate.yaml's level probes) against time. A gate alone would peak later as sqrt(m / k):
 t_peak ~ 1 / sqrt(E) at a given load; a peak that rises with 1 / E but keeps its time is set by the load instead.
 The scene keeps the published material: this is a sensitivity study, reported as one.
 """
@@ -20,7 +20,7 @@ CASE = "antoci_stiffness"
 SCENE = "antoci_gate"
 SPACING = 0.00125
 END_TIME = 0.3               # s: past the measured peak (0.16 s) and the softest gate's
-PUBLISHED_E = 12.0e6         # Pa (scenes/antoci_gate.py)
+PUBLISHED_E = 12.0e6         # Pa (config/antoci_gate.yaml)
 SOFTER_E = (8.4e6, 6.0e6)
 CLAMP_RAISED_BY = 0.003      # m
 

@@ -14,7 +14,7 @@ from ..rung import Rung
 # one plate, 4 particles through (t = 0.02 m, dp = 5 mm, E = 0.1 GPa, nu = 0.3: the small plate's), clamped at
 # both ends (no free end) and clamped at one (a cantilever), over L / t, each against plane-strain FE for itself.
 # A clamp acting as if the strip were longer by delta adds 8 delta / L to the first and 4 delta / L to the second
-# (scenes/clamped_plate.py); what the cantilever has beyond that is its free end's. The loads scale as (t / L)^4 so
+# (scenes/cases/clamped_plate.py); what the cantilever has beyond that is its free end's. The loads scale as (t / L)^4 so
 # every strip deflects as much relative to its thickness (0.5 % clamped at both ends, 2 % as a cantilever: linear).
 # The runs go 5 periods of the first mode: the load ramps in over 2 and the critical damping settles it.
 CLAMP_EFFECT_RATIOS = {"clamped_clamped": (5, 10, 15, 20, 30), "clamped_free": (5, 10, 15, 20)}
@@ -24,7 +24,7 @@ CLAMP_EFFECT_LOAD = {"clamped_clamped": 1000.0 * 9.81 * 0.1, "clamped_free": 100
 
 
 def rungs():
-    from ...scenes.clamped_plate import FIRST_MODE_BETA_L
+    from ...scenes.cases.clamped_plate import FIRST_MODE_BETA_L
     t, e, nu, rho = 0.02, 1.0e8, 0.3, 2700.0
     rungs = []
     for supports, ratios in CLAMP_EFFECT_RATIOS.items():

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...scenes.elastic_gate import PAPER_GATE_WIDTH_M
+from ...scenes.cases.elastic_gate import PAPER_GATE_WIDTH_M
 from ...answers.references import read_reference_table
 from ..report_tools import save_panels, series_rows
 from ..rung import Rung

@@ -6,8 +6,8 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
-# Antoci's gate held static under its water (scenes/antoci_gate_static.py) and under its water's exact pressure
-# (scenes/antoci_gate_loaded.py), both against plane-strain FE: coupled against loaded is the load transfer, loaded
+# Antoci's gate held static under its water (config/antoci_gate_static.yaml) and under its water's exact pressure
+# (config/antoci_gate_loaded.yaml), both against plane-strain FE: coupled against loaded is the load transfer, loaded
 # against FE the gate's bending, at the validation spacings where the quadratic fit is determined (3 and 4 particles
 # through the gate), with the antoci_gate scene's scheme; and the solid under the exact load with the default
 # scheme and the mirrored clamp (as the plates converge, docs/validation/studies/solid_static).

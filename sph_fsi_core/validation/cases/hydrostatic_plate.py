@@ -6,7 +6,7 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
-# The same plate under 2 m of water (scenes/hydrostatic_plate.py, Fourey et al. 2017), coupled: settled deflection
+# The same plate under 2 m of water (config/hydrostatic_plate.yaml, Fourey et al. 2017), coupled: settled deflection
 # against the same FE value and the water's load against its weight. The benchmark's aluminium takes a solid step
 # of 0.7 us at 4 particles through; the ladder runs the plate 20 times softer (E = 3.375 GPa: the deflection 20
 # times larger, 3 % of the thickness, still linear: the FE reference is for the same E), whose step is sqrt(20) =
@@ -81,7 +81,7 @@ def rungs():
                       note="8 particles through the plate, E = 3.375 GPa, the default scheme as it is, "
                            "coupling.relaxation = 0.3, the fluid's step 1 ms as at 4 and 6 through"))
     # The fluid's part alone: the same 2 m column, relaxed the same way, on the rigid floor of the hydrostatic tank
-    # (scenes/hydrostatic.py), its walls as the plate's side walls. Its departure at 0.25-0.4 s is the coupled
+    # (config/hydrostatic.yaml), its walls as the plate's side walls. Its departure at 0.25-0.4 s is the coupled
     # 8-through plate's (docs/validation/OPEN.md 1.0); the narrow tank (0.1 m: 16 columns) shows it in a minute.
     column = {"geometry.depth": 2.0, "geometry.wall_height": 2.1, "geometry.span_layers": 6,
               "geometry.water_damping_ratio": 1.0, "fluid.time_step": 1.0e-3, "output.timeseries_interval": 1.0e-3}
@@ -164,7 +164,7 @@ def table(out_dir, rungs, summaries):
             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|", *lines, *peers_table(rungs, summaries)]
 
 
-# the benchmark's plate (Fourey et al. 2017): span and thickness, m (scenes/hydrostatic_plate.py's defaults)
+# the benchmark's plate (Fourey et al. 2017): span and thickness, m (config/hydrostatic_plate.yaml's defaults)
 BENCHMARK_PLATE = (1.0, 0.05)
 # Peers on it: (result, method, particles through, mid-span deflection against beam theory in %, positive for less
 # deflection), as the comment lines of ../shared/reference/hydrostatic_plate_fourey2017.csv give them ("about" where

@@ -4,7 +4,7 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
-# The solid under large rotation (scenes/cantilever_loaded.py): the paper's beam (4 particles through, L/H = 10) at
+# The solid under large rotation (config/cantilever_loaded.yaml): the paper's beam (4 particles through, L/H = 10) at
 # rest under a distributed dead load, linear (alpha = 0.05) to the free end turning 18 and 34 degrees (alpha = 2, 4;
 # the root's bending strain alpha H / (4 L) = 5 and 10 %: Antoci's gate reaches about 7 %), against the elastica;
 # Gray's scheme alongside. The quick rung: a beam half as long (L/H = 5, a quarter of the time) at alpha = 2.

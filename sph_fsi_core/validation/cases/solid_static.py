@@ -5,7 +5,7 @@ from ..rung import Rung
 from .as_run import EXPLICIT_PRESSURE
 
 
-# The solid's static answer under a prescribed load (scenes/clamped_plate.py: the hydrostatic-plate benchmark's
+# The solid's static answer under a prescribed load (config/clamped_plate.yaml: the hydrostatic-plate benchmark's
 # plate with the water's exact pressure), judged against plane-strain FE; every scheme on a resolution ladder.
 SOLID_STATIC_SCHEMES = ("quadratic_gradient", "quadratic_plain", "gray2001")
 SOLID_STATIC_LAYERS = (4, 6, 8, 10)

@@ -1,43 +1,18 @@
-"""Water at rest in a tank: the hydrostatic pressure p = rho g depth, with no particle crossing a wall.
+"""Water at rest in a tank (config/hydrostatic.yaml): the hydrostatic pressure p = rho g depth, no particle crossing
+a wall. What its file cannot say: the refusals of widths that are not whole spacings, the floor pressure fitted
+through the water at every sample, the water's relaxation rate from its column's breathing mode, and the judgement
+of the settled floor pressure against rho g H (the last 30 % of the run).
 
-Water: `width` (x) by `depth` (z) on a floor, across a slab of `span_layers` particle layers in y, periodic along y
-by default (no side walls: a 2D column with 3D kernels). Walls: `wall_layers` layers of fixed particles under the
-floor and beyond both end walls, up to `wall_height`. Gravity -9.81 m/s^2 in z. Judged after settling (the last
-30 % of the run) on the pressure at the floor against rho g H, H = depth (the water's height from its volume).
-`water_damping_ratio` relaxes the water to rest as scenes/hydrostatic_plate.py does (off by default): with it the
-tank is that scene's column on a rigid floor, the fluid's part of the coupled case alone. `water_start: compressed`
-builds the water and its end walls as that scene does by default (tank.compress_column).
+`water_damping_ratio` relaxes the water to rest as the hydrostatic plate does (off by default): with it the tank is
+that scene's column on a rigid floor, the fluid's part of the coupled case alone.
 """
 import math
 
 import numpy as np
 
-from ..schema import Param, SceneError
-from . import tank
-
-PHASES = ("fluid", "walls")
-CONSERVATIVE = False     # gravity does work while the water settles
-
-GEOMETRY = [
-    Param("geometry.width", 0.05, "m", "Water (and tank) width along x", low=0.0, low_inclusive=False, high=10.0),
-    Param("geometry.depth", 0.1, "m", "Water depth H along z", low=0.0, low_inclusive=False, high=10.0),
-    Param("geometry.wall_height", 0.12, "m", "Height of the tank's end walls above the floor", low=0.0,
-          low_inclusive=False, high=20.0),
-    Param("geometry.span_layers", 6, "1", "Particle layers across the slab (y)", kind="int", low=1, high=10000),
-    Param("geometry.periodic_y", True, "", "Periodic along y (else side walls close the slab)", kind="bool"),
-    Param("geometry.wall_layers", 3, "1", "Layers of wall particles (their thickness must reach 2h)", kind="int",
-          low=1, high=20),
-    Param("geometry.water_damping_ratio", 0.0, "1", "The water's velocity relaxation, as a fraction of the critical "
-          "damping of the column's breathing mode (0: none; hydrostatic_plate's relaxation, for the same column "
-          "on a rigid floor)", low=0.0, high=100.0),
-    Param("geometry.water_start", "lattice", "", "How the water is built: 'lattice' on its lattice with no pressure "
-          "(the paper's; it first falls into the correction's band), 'compressed' as the density correction holds "
-          "it at rest (compression linear in depth to the tolerance at the floor) with the end walls beside it "
-          "compressed the same way (tank.compress_column)", kind="str", choices=tank.WATER_STARTS),
-]
-
-DEFAULTS = {"scene.end_time": 1.0, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.0025,
-            "output.timeseries_interval": 5.0e-3, "output.snapshot_interval": 0.1}
+from ...schema import SceneError
+from .. import tank
+from . import Case
 
 SETTLED_FRACTION = 0.3   # evaluate() averages over the last 30 % of the run
 
@@ -54,7 +29,7 @@ def check(values):
 
 def check_walls_and_span(values):
     """Walls at least 2h thick (else the kernel reaches past them and water leaks); a periodic slab at least twice
-    the neighbour cutoff (2h + skin) wide."""
+    the neighbour cutoff (2h + skin) wide (the tanks' keys geometry.wall_layers, span_layers and periodic_y)."""
     dp = values["numerics.spacing"]
     h = values["numerics.smoothing_ratio"] * dp
     need = math.ceil(2.0 * h / dp - 1e-9)
@@ -69,27 +44,15 @@ def check_walls_and_span(values):
                              f"least twice the neighbour cutoff (2h + skin) wide; allowed: at least {need}")
 
 
-def _sites(values):
-    """(nx, nz): the water's sites along x (the tank's inside too) and z."""
-    dp = values["numerics.spacing"]
-    return (tank.whole_layers(values["geometry.width"], dp, "geometry.width"),
-            tank.whole_layers(values["geometry.depth"], dp, "geometry.depth"))
+def depth_built(values):
+    """The water's depth as built, whole layers, m."""
+    return tank.whole_layers(values["geometry.depth"], values["numerics.spacing"], "geometry.depth") \
+        * values["numerics.spacing"]
 
 
-def particle_counts(values):
-    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    nx, nz = _sites(values)
-    return tank.column_in_tank_counts(values, nx, nz, nx)
-
-
-def build(values):
-    dp = values["numerics.spacing"]
-    nx, nz = _sites(values)
-    wall_top = math.ceil(values["geometry.wall_height"] / dp - 1e-9) * dp
-    built = tank.column_in_tank(values, nx, nz, nx, margin=0.5 * wall_top)
-    tank.build_water_start(values, 0.0, nz * dp, built.fluid.pos, built.walls.pos)
-    built.fluid_damping_rate = tank.water_relaxation_rate(values, nz * dp)
-    return built
+def relaxation(values, built):
+    """No solid; the water's velocities relax at 2 zeta omega_b of its column (tank.water_relaxation_rate)."""
+    return 0.0, tank.water_relaxation_rate(values, depth_built(values))
 
 
 def floor_pressure_fit(pos, pressure, width, depth, h):
@@ -153,3 +116,6 @@ def evaluate(series, values):
         "error_metric": "relative error of the floor pressure (line fit of p(z), settled) against rho g H",
         "error": abs(p_floor - ref) / ref,
     }
+
+
+CASE = Case("hydrostatic", check=check, relaxation=relaxation, sample_fluid=sample_fluid, evaluate=evaluate)

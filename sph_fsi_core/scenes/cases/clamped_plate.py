@@ -1,69 +1,35 @@
-"""A plate clamped at both ends under a prescribed pressure, settled to static: the solid alone against FE.
+"""A plate clamped at both ends under a prescribed pressure, settled to static (config/clamped_plate.yaml): the
+solid alone against FE. What its file cannot say: the refusals of a plate that is not whole spacings, the load and
+its ramp, the damping from the first mode, and the reference.
 
 This is the hydrostatic-plate benchmark (Fourey et al. 2017; ../shared/reference/hydrostatic_plate_fourey2017.csv)
 with the water replaced by the exact pressure it puts on the plate, so the solid's static answer is judged apart
-from the fluid and the load transfer. Its defaults are the benchmark's plate: span L = 1 m, thickness t = 0.05 m,
-E = 67.5 GPa, nu = 0.3, rho_s = 2700 kg/m^3 under its own weight, and 2 m of water on top: p = 1000 * 9.81 * 2 Pa.
+from the fluid and the load transfer. The load: the pressure p(x) = load_pressure + load_gradient * x (Pa) pushes
+the top layer of the span down, each particle carrying the force of its dp x dp of surface; it ramps in smoothly
+over `load_ramp_periods` periods of the plate's first mode and a mass-proportional damping (`damping_ratio` of that
+mode's critical damping) lets it settle. Neither changes the static answer; both only shorten the way to it.
 
-Layout, on one cubic lattice of spacing dp with sites at (i + 1/2) dp: the plate x in [0, L], z in [0, t], across a
-periodic slab in y (plane strain); `clamp_layers` layers of fixed solid particles (the clamp, movable False)
-continue it beyond each end, so the clamp faces are x = 0 and x = L. The load: the pressure
-p(x) = load_pressure + load_gradient * x (Pa) pushes the top layer of the span down, each particle carrying the
-force of its dp x dp of surface; it ramps in smoothly over `load_ramp_periods` periods of the plate's first mode
-and a mass-proportional damping (`damping_ratio` of that mode's critical damping) lets it settle. Neither changes
-the static answer; both only shorten the way to it.
-
-Probe 'midspan': the movable particles nearest mid-span and mid-thickness (two columns and two layers when the
-layer counts are even). Judged on its mean vertical displacement over the last 25 % of the run against the
-project's plane-strain FE value for the same plate and load (answers/fe_reference.py).
-
-`geometry.supports = clamped_free`: the same strip clamped at x = 0 only, a cantilever free at x = L (no clamp
-beyond it). Probe 'free_end': the last column's particles nearest mid-thickness (x = L - dp / 2), judged against
-FE at the same point. With the two supports on one plate the clamp and the free end can be told apart: a clamp
-that acts as if the strip were longer by delta moves the clamped-clamped mid-span by 8 delta / L and the
-cantilever's free end by 4 delta / L (beam theory; a rotational spring at the clamp, to first order), so a
-ladder over L / t separates what the clamp does from what the free end does (validation case clamp_effect).
+Judged on the probe 'midspan' (the movable particles nearest mid-span and mid-thickness), its mean vertical
+displacement over the last 25 % of the run, against the project's plane-strain FE value for the same plate and load
+(answers/fe_reference.py). `geometry.supports = clamped_free`: the same strip clamped at x = 0 only, a cantilever
+free at x = L, judged on its probe 'free_end' (x = L - dp / 2, mid-thickness) against FE at the same point. With the
+two supports on one plate the clamp and the free end can be told apart: a clamp that acts as if the strip were
+longer by delta moves the clamped-clamped mid-span by 8 delta / L and the cantilever's free end by 4 delta / L (beam
+theory; a rotational spring at the clamp, to first order), so a ladder over L / t separates what the clamp does from
+what the free end does (validation case clamp_effect).
 """
 import math
 
 import numpy as np
 
-from ..schema import Param, SceneError
-from ..state import Probe, SolidState
-from .built import Built, clamp_mirror_across
-
-PHASES = ("solid",)
-CONSERVATIVE = False     # the load does work
+from ...schema import SceneError
+from . import Case
 
 # the benchmark's plate and water (hydrostatic_plate_fourey2017.csv)
 WATER_PRESSURE = 1000.0 * 9.81 * 2.0
 SETTLED_FRACTION = 0.25   # evaluate() averages over the last quarter of the run
 # first bending mode, Euler-Bernoulli: beta_1 L = 4.7300 clamped-clamped, 1.8751 clamped-free
 FIRST_MODE_BETA_L = {"clamped_clamped": 4.730040745, "clamped_free": 1.875104069}
-
-GEOMETRY = [
-    Param("geometry.span", 1.0, "m", "Plate span L along x, clamp face to clamp face", low=0.0, low_inclusive=False,
-          high=100.0),
-    Param("geometry.thickness", 0.05, "m", "Plate thickness t along z", low=0.0, low_inclusive=False, high=10.0),
-    Param("geometry.span_layers", 0, "1", "Particle layers across the periodic slab (y; 0: the narrowest slab the "
-          "neighbour lists allow, 2 (2h + skin))", kind="int", low=0, high=10000),
-    Param("geometry.clamp_layers", 4, "1", "Layers of fixed particles beyond each clamped end (at least 2h)",
-          kind="int", low=1, high=40),
-    Param("geometry.supports", "clamped_clamped", "", "Clamped at both ends, or at x = 0 only (a cantilever free "
-          "at x = L)", kind="str", choices=("clamped_clamped", "clamped_free")),
-    Param("geometry.load_pressure", WATER_PRESSURE, "Pa", "Pressure on the plate's top face at x = 0 (pushing down; "
-          "the benchmark: 2 m of water)", low=-1.0e9, high=1.0e9),
-    Param("geometry.load_gradient", 0.0, "Pa/m", "Change of the pressure along x (a linear, hydrostatic-like load)",
-          low=-1.0e10, high=1.0e10),
-    Param("geometry.load_ramp_periods", 2.0, "1", "The load ramps in over this many periods of the plate's first "
-          "mode (0: all at once)", low=0.0, high=1000.0),
-    Param("geometry.damping_ratio", 1.0, "1", "Mass-proportional damping, as a fraction of the first mode's critical "
-          "damping (settles the plate; the static answer does not depend on it)", low=0.0, high=100.0),
-]
-
-DEFAULTS = {"scene.end_time": 0.02, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.0125,
-            "output.timeseries_interval": 1.0e-4, "output.snapshot_interval": 0.0,
-            "solid.density": 2700.0, "solid.young_modulus": 67.5e9, "solid.poisson_ratio": 0.3}
 
 
 def _layers(extent, dp, key, at_least):
@@ -115,60 +81,21 @@ def pressure_at(values, x):
     return values["geometry.load_pressure"] + values["geometry.load_gradient"] * x
 
 
-def particle_counts(values):
-    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    c = layer_counts(values)
-    return {"solid": (c["nx"] + (1 if _free_end(values) else 2) * c["nc"]) * c["ny"] * c["nz"]}
-
-
-def build(values):
+def load(values, built):
+    """The pressure on the span's top layer, each particle's dp x dp of surface, down; ramped in over
+    load_ramp_periods of the first mode."""
+    solid = built.solid
     dp = values["numerics.spacing"]
-    c = layer_counts(values)
-    nx, nz, ny, nc = c["nx"], c["nz"], c["ny"], c["nc"]
-    x = (np.arange(-nc, nx + (0 if _free_end(values) else nc)) + 0.5) * dp
-    y = (np.arange(ny) + 0.5) * dp
-    z = (np.arange(nz) + 0.5) * dp
-    pos = np.stack(np.meshgrid(x, y, z, indexing="ij"), axis=-1).reshape(-1, 3)
-    span = values["geometry.span"]
-    movable = (pos[:, 0] > 0.0) & (pos[:, 0] < span)
-    solid = SolidState.at_rest(pos, movable, values["solid.density"], dp)
-
-    top = movable & np.isclose(pos[:, 2], (nz - 0.5) * dp)
-    load = np.zeros((len(pos), 3))
-    load[top, 2] = -pressure_at(values, pos[top, 0]) * dp * dp     # N: the pressure on its dp x dp of surface
-
-    if _free_end(values):
-        probes, mirror = free_end_probe_and_mirror(pos, movable, span, nz * dp, dp)
-    else:
-        probes, mirror = midspan_probe_and_mirror(pos, movable, span, nz * dp, dp)
-    margin = 0.5 * span + 10 * dp
-    lo = np.array([-margin, -dp, -margin])
-    hi = np.array([span + margin, (ny + 1) * dp, values["geometry.thickness"] + margin])
-    omega = first_mode_omega(values)
-    return Built(solid=solid, probes=probes, domain_lo=lo, domain_hi=hi, period=np.array([0.0, ny * dp, 0.0]),
-                 clamp_mirror=mirror, solid_load=load,
-                 load_ramp_time=values["geometry.load_ramp_periods"] * 2.0 * math.pi / omega,
-                 damping_rate=2.0 * values["geometry.damping_ratio"] * omega)
+    nz = layer_counts(values)["nz"]
+    top = solid.movable & np.isclose(solid.pos[:, 2], (nz - 0.5) * dp)
+    force = np.zeros((solid.count, 3))
+    force[top, 2] = -pressure_at(values, solid.pos[top, 0]) * dp * dp     # N: the pressure on its dp x dp of surface
+    return force, values["geometry.load_ramp_periods"] * 2.0 * math.pi / first_mode_omega(values)
 
 
-def midspan_probe_and_mirror(pos, movable, span, thickness, dp):
-    """The plate's 'midspan' probe (the movable particles nearest mid-span and mid-thickness) and the mirrored
-    clamp's map (each clamp particle's image across its own clamp face, x = 0 or x = span)."""
-    near_mid = (np.abs(pos[:, 0] - 0.5 * span) < 0.51 * dp) & (np.abs(pos[:, 2] - 0.5 * thickness) < 0.51 * dp)
-    mid = np.flatnonzero(near_mid & movable)
-    probes = [Probe("midspan", "solid", mid, pos[mid].mean(axis=0))]
-    mirror = np.maximum(clamp_mirror_across(pos, movable & (pos[:, 0] < 0.5 * span), 0, 0.0, dp),
-                        clamp_mirror_across(pos, movable & (pos[:, 0] > 0.5 * span), 0, span, dp))
-    return probes, mirror
-
-
-def free_end_probe_and_mirror(pos, movable, span, thickness, dp):
-    """A cantilever's 'free_end' probe (the last column's particles nearest mid-thickness, x = span - dp / 2) and
-    the mirrored clamp's map across x = 0."""
-    near_end = (np.abs(pos[:, 0] - (span - 0.5 * dp)) < 0.01 * dp) & (np.abs(pos[:, 2] - 0.5 * thickness) < 0.51 * dp)
-    end = np.flatnonzero(near_end & movable)
-    probes = [Probe("free_end", "solid", end, pos[end].mean(axis=0))]
-    return probes, clamp_mirror_across(pos, movable, 0, 0.0, dp)
+def relaxation(values, built):
+    """The plate's mass-proportional damping, damping_ratio of its first mode's critical; no water."""
+    return 2.0 * values["geometry.damping_ratio"] * first_mode_omega(values), 0.0
 
 
 def block_means(x, blocks=3):
@@ -182,7 +109,7 @@ def evaluate(series, values, settled_fraction=SETTLED_FRACTION):
     end's with geometry.supports = clamped_free (evaluate_free_end)."""
     if _free_end(values):
         return evaluate_free_end(series, values, settled_fraction)
-    from ..answers.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
+    from ...answers.fe_reference import clamped_plate_beam_deflection, clamped_plate_fe_deflection
     t = series["time"]
     settled = t >= t[-1] * (1.0 - settled_fraction)
     w = series["midspan_dz"][settled]
@@ -215,7 +142,7 @@ def evaluate(series, values, settled_fraction=SETTLED_FRACTION):
 def evaluate_free_end(series, values, settled_fraction=SETTLED_FRACTION):
     """A cantilever's free-end deflection (x = L - dp / 2, mid-thickness), settled, against plane-strain FE at the
     same point; the beam value (Euler-Bernoulli, at x = L) beside it."""
-    from ..answers.fe_reference import cantilever_strip_fe_deflection
+    from ...answers.fe_reference import cantilever_strip_fe_deflection
     t = series["time"]
     settled = t >= t[-1] * (1.0 - settled_fraction)
     w = series["free_end_dz"][settled]
@@ -249,3 +176,6 @@ def evaluate_free_end(series, values, settled_fraction=SETTLED_FRACTION):
             "reference": f"plane-strain FE, biquadratic quadrilaterals of {element:g} m at x = L - dp / 2 "
                          "(answers/fe_reference.py)",
             "error_signed": error, "error": abs(error)}
+
+
+CASE = Case("clamped_plate", check=check, load=load, relaxation=relaxation, evaluate=evaluate)

@@ -1,64 +1,30 @@
-"""Shared geometry of the gate scenes (elastic_gate.py, antoci_gate.py): a water column held by an elastic plate
-clamped at its top, released at t = 0 through the gap under the plate's free end.
+"""What the gate scenes share (config/elastic_gate.yaml, antoci_gate.yaml, antoci_gate_static.yaml,
+antoci_gate_loaded.yaml): a water column held by an elastic plate clamped at its top, released through the gap under
+its free end. Their files lay the gate, the water, the tank and the plug out; this module has what the four cases'
+code needs of that layout (its keys rounded to whole spacings, the refusals), their common columns (the free end's
+velocity, the water past the gate) and the static gates' reference (plane-strain FE of the free length under the
+water's hydrostatic pressure).
 
-Layout (before the optional mirror), everything on one cubic lattice of spacing dp with sites at (i + 1/2) dp:
+The layout, on one cubic lattice of spacing dp with sites at (i + 1/2) dp:
 - gate: x in [0, T], z from the clearance G to G + L (its free, movable part), then `gate_clamp_height` more of
-  fixed solid particles (movable False: the clamp; for Antoci's gate the rigid wall the gate hangs from, up to the
-  walls' top); y across the whole periodic slab (span_layers layers): the plate spans the channel, so water passes
-  only under it;
+  fixed solid particles (the clamp; for Antoci's gate the rigid wall the gate hangs from, up to the walls' top);
+  y across the whole periodic slab: the plate spans the channel, so water passes only under it;
 - water: x in [T, T + A] on the gate's +x side, z in [0, H], plus the slot under the gate (x in [0, T], z < G);
 - tank: a floor and end walls of `wall_layers` layers (>= 2h), the upstream end wall at x = T + A, the downstream one
-  at x = -downstream_length, open top; periodic along y (no side walls), like the fluid scenes' slabs.
+  at x = -downstream_length, open top; periodic along y (no side walls), like the fluid scenes' slabs;
+- plug: on the gate's dry side, closing the gap and rising `wall_layers` more along the gate's face, a gate part that
+  holds the water while it settles (fluid.settle_time) and is gone at t = 0.
 `mirror`: x -> -x, so the water sits on the gate's -x side (Antoci's experiment, whose data are for a gate bending
-towards +x).
-
-Probe 'tip': the gate's free end, the lowest movable layer (all of its particles across x and y); its mean
-displacement in x and z is the free-end displacement of Satake et al.'s Fig. 7 and Antoci's data.
+towards +x). Probe 'tip': the gate's free end, the lowest movable layer (all of its particles across x and y); its
+mean displacement in x and z is the free-end displacement of Satake et al.'s Fig. 7 and Antoci's data.
 """
 import math
 
 import numpy as np
 
-from ..numerics.kernels import lattice_density_scale
-from ..schema import Param, SceneError
-from ..state import FluidState, Probe, SolidState, WallState
-from . import tank
-from .built import Built, clamp_mirror_across
-
-PHASES = ("solid", "fluid", "walls", "coupling")
-CONSERVATIVE = False     # gravity does work as the water falls
-
-
-def geometry_params(d):
-    """The gate scenes' geometry keys, defaults from `d`."""
-    return [
-        Param("geometry.gate_thickness", d["gate_thickness"], "m", "Gate thickness T along x", low=0.0,
-              low_inclusive=False, high=10.0),
-        Param("geometry.gate_length", d["gate_length"], "m",
-              "Gate free length L along z, clamp to free end (rounded to whole spacings)", low=0.0,
-              low_inclusive=False, high=10.0),
-        Param("geometry.gate_clearance", d["gate_clearance"], "m",
-              "Gap G between the gate's free end and the floor (rounded to whole spacings; 0: the gate stands on "
-              "the floor and holds the water back)", low=0.0, high=10.0),
-        Param("geometry.gate_clamp_height", d["gate_clamp_height"], "m",
-              "Fixed solid above the free length (the clamp; rounded to whole spacings, at least 2h)", low=0.0,
-              low_inclusive=False, high=10.0),
-        Param("geometry.water_width", d["water_width"], "m", "Water column width A along x (beside the gate)",
-              low=0.0, low_inclusive=False, high=10.0),
-        Param("geometry.water_height", d["water_height"], "m", "Water depth H along z", low=0.0,
-              low_inclusive=False, high=10.0),
-        Param("geometry.downstream_length", d["downstream_length"], "m",
-              "Floor beyond the gate on the dry side, to the far end wall", low=0.0, low_inclusive=False,
-              high=100.0),
-        Param("geometry.wall_height", d["wall_height"], "m", "Height of the end walls above the floor", low=0.0,
-              low_inclusive=False, high=100.0),
-        Param("geometry.span", d["span"], "m",
-              "Width of the periodic slab along y, gate and water across all of it (rounded to whole spacings; "
-              "0: the narrowest slab the neighbour lists allow, 2 (2h + skin))", low=0.0, high=10.0),
-        Param("geometry.wall_layers", 3, "1", "Layers of wall particles (their thickness must reach 2h)",
-              kind="int", low=1, high=20),
-        Param("geometry.mirror", d["mirror"], "", "Mirror x: the water on the gate's -x side", kind="bool"),
-    ]
+from ...schema import SceneError
+from . import probe_named
+from .hydrostatic import check_walls_and_span
 
 
 def _round_layers(extent, dp, key, at_least=1):
@@ -70,6 +36,7 @@ def _round_layers(extent, dp, key, at_least=1):
 
 
 def layer_counts(values):
+    """The layers of each of the layout's extents (the keys rounded to whole spacings; SceneError below the least)."""
     dp = values["numerics.spacing"]
     h = values["numerics.smoothing_ratio"] * dp
     return dict(
@@ -99,7 +66,8 @@ QUADRATIC_FIT_LAYERS = 3
 
 
 def check(values):
-    from .hydrostatic import check_walls_and_span
+    """The gate scenes' refusals: a layer count below its least, walls thinner than 2h or below the water, a slab too
+    narrow, a gate too thin for the quadratic fit."""
     c = layer_counts(values)
     check_walls_and_span({**values, "geometry.periodic_y": True, "geometry.span_layers": c["ny"]})
     if c["nw"] < c["nh"]:
@@ -121,59 +89,6 @@ def check_fit_layers(values):
             f"{values['geometry.gate_thickness'] / QUADRATIC_FIT_LAYERS:.4g} m, or solid.scheme = gray2001")
 
 
-def particle_counts(values):
-    """The particles build() makes, per phase, without making them (the memory guard's estimate)."""
-    c = layer_counts(values)
-    nt, nl, ng, nc, na, nh, nd, nw, ny = (c[k] for k in ("nt", "nl", "ng", "nc", "na", "nh", "nd", "nw", "ny"))
-    return {"solid": nt * ny * (nl + nc), "fluid": na * ny * nh + nt * ny * ng,
-            "walls": tank.tank_wall_count(nd + nt + na, ny, nw, values["geometry.wall_layers"], True)}
-
-
-def build(values):
-    dp = values["numerics.spacing"]
-    c = layer_counts(values)
-    nt, nl, ng, nc, na, nh, nd, nw, ny = (c[k] for k in ("nt", "nl", "ng", "nc", "na", "nh", "nd", "nw", "ny"))
-    rho0 = values["fluid.density"]
-    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
-    layers = values["geometry.wall_layers"]
-    # gate: free part then the clamp above it
-    gate = tank.lattice(nt, ny, nl + nc, dp, offset=(0.0, 0.0, ng * dp))
-    movable = gate[:, 2] < (ng + nl) * dp
-    # water beside the gate (x in [T, T + A]) and in the slot under it
-    water = np.concatenate([tank.lattice(na, ny, nh, dp, offset=(nt * dp, 0.0, 0.0)),
-                            tank.lattice(nt, ny, ng, dp)])
-    # tank: inside x in [-D, T + A], i.e. nd + nt + na sites from x0 = -D
-    inside = nd + nt + na
-    walls = tank.tank_walls(inside, ny, nw, layers, dp, True)
-    walls[:, 0] -= nd * dp
-    # the clamp may reach above the walls; wall sites never coincide with gate sites (walls are outside x range)
-    # a plug on the gate's dry side holds the water while it settles (fluid.settle_time), gone at t = 0: it closes
-    # the gap and rises `layers` more along the gate's face, or the water squeezes out past the gate's corner
-    plug = tank.lattice(min(layers, nd), ny, ng + layers, dp, offset=(-min(layers, nd) * dp, 0.0, 0.0))
-    pos_all = [gate, water, walls, plug]
-    if values["geometry.mirror"]:
-        for p in pos_all:
-            p[:, 0] *= -1.0
-    solid = SolidState.at_rest(gate, movable, values["solid.density"], dp)
-    fluid = FluidState.at_rest(water, rho0, dp, mass_scale=scale)
-    wall_state = WallState.lattice(walls, rho0, dp, mass_scale=scale)
-    tip = np.flatnonzero(movable & np.isclose(gate[:, 2], (ng + 0.5) * dp))
-    probes = [Probe("tip", "solid", tip, gate[tip].mean(axis=0))]
-    span = ny * dp
-    top = max(nw, ng + nl + nc) * dp
-    margin = max(top, 0.05)
-    xlo, xhi = -nd * dp - layers * dp - margin, (nt + na) * dp + layers * dp + margin
-    if values["geometry.mirror"]:
-        xlo, xhi = -xhi, -xlo
-    lo = np.array([xlo, 0.0, -layers * dp - margin])
-    hi = np.array([xhi, span, top + margin])
-    period = np.array([0.0, span, 0.0])
-    release = WallState.lattice(plug, rho0, dp, mass_scale=scale) if ng > 0 else None
-    return Built(solid=solid, fluid=fluid, walls=wall_state, probes=probes, domain_lo=lo, domain_hi=hi,
-                 period=period, clamp_mirror=clamp_mirror_across(gate, movable, 2, (ng + nl) * dp, dp),
-                 release_walls=release)
-
-
 def effective_geometry(values):
     """The lattice's actual extents (the keys rounded to whole spacings), m."""
     dp = values["numerics.spacing"]
@@ -185,7 +100,7 @@ def effective_geometry(values):
 
 def sample(solid, probes, vel):
     """Extra time-series columns: the free end's mean velocity in x and z (vel: Simulation.solid_velocity)."""
-    tip = probes[0].indices
+    tip = probe_named(probes, "tip").indices
     return {"tip_vx": float(vel[tip, 0].mean()), "tip_vz": float(vel[tip, 2].mean())}
 
 
@@ -201,20 +116,8 @@ def sigma_zz(solid):
     return solid.stress[:, 2] - solid.pressure
 
 
-# ---- the gate held static under its water (scenes/antoci_gate_static.py, antoci_gate_loaded.py) -----------------
+# ---- the gate held static under its water (antoci_gate_static, antoci_gate_loaded) ---------------------------
 CANTILEVER_BETA_L = 1.8751040687    # first clamped-free bending mode (Euler-Bernoulli)
-
-
-def static_params(damping_ratio, water_damping_ratio=None):
-    """The static gates' relaxation keys (the water's only where there is water)."""
-    out = [Param("geometry.damping_ratio", damping_ratio, "1", "The gate's mass-proportional damping, as a fraction "
-                 "of its first dry mode's critical damping (settles it; the static answer does not depend on it)",
-                 low=0.0, high=100.0)]
-    if water_damping_ratio is not None:
-        out.append(Param("geometry.water_damping_ratio", water_damping_ratio, "1", "The water's velocity "
-                         "relaxation, as a fraction of the critical damping of the column's breathing mode (settles "
-                         "it; the static answer does not depend on it)", low=0.0, high=100.0))
-    return out
 
 
 def first_mode_omega(values):
@@ -246,8 +149,8 @@ def water_surface_z(values):
 
 def hydrostatic_gate_load(level, values):
     """The x force [N] of water at rest up to z = `level` on the wet face of the straight gate's free length (from
-    its clearance up to the clamp), rho_f g W (H (top - c) - (top^2 - c^2) / 2) with top = H clipped to [c, c + L]; exact for
-    the gate at rest, and the load of the current level for a moving one."""
+    its clearance up to the clamp), rho_f g W (H (top - c) - (top^2 - c^2) / 2) with top = H clipped to [c, c + L];
+    exact for the gate at rest, and the load of the current level for a moving one."""
     geometry = effective_geometry(values)
     length, width = geometry["gate_free_length_m"], geometry["span_m"]
     clearance = geometry["gate_clearance_m"]
@@ -265,7 +168,7 @@ def static_tip_reference(values, water_density, gravity):
     The probe is the lowest particle layer, whose centres sit half a spacing above the body's free end: the FE is
     read there, at mid-thickness, not at the end itself (the slope there, 4/3 of the deflection over L, makes the
     difference 1.4 % at 3 particles through). Elements of dp / 4 put a node on that point."""
-    from ..answers.fe_reference import cantilever_strip_fe_deflection
+    from ...answers.fe_reference import cantilever_strip_fe_deflection
     g = effective_geometry(values)
     length, thickness, clearance = g["gate_free_length_m"], g["gate_thickness_m"], g["gate_clearance_m"]
     dp = values["numerics.spacing"]

@@ -1,4 +1,6 @@
-"""Antoci, Gallati & Sibilla 2007's rubber gate (Comput. Struct. 85:879-890) as a quasi-2D slab periodic along y.
+"""Antoci, Gallati & Sibilla 2007's rubber gate (Comput. Struct. 85:879-890; config/antoci_gate.yaml) as a quasi-2D
+slab periodic along y. What its file cannot say: the gate family's refusals and columns (cases/gate.py) and the
+judgement against the measured curves.
 
 Water column 0.1 m wide x 0.14 m high held by a rubber gate 79 mm free length x 5 mm thick, clamped at its top (the
 fixed solid above the free length, up to the walls' top, is the rigid wall it hangs from), 2.5 mm above the floor
@@ -12,45 +14,8 @@ import math
 
 import numpy as np
 
-from ..probes import ProbeSpec
-from ..answers.references import antoci_gate_tip
-from . import gate
-from .gate import CONSERVATIVE, PHASES, particle_counts, sample, sample_fluid  # noqa: F401  (builder interface)
-
-GEOMETRY = gate.geometry_params(dict(
-    gate_thickness=0.005, gate_length=0.079, gate_clearance=0.0025, gate_clamp_height=0.0685, water_width=0.1,
-    water_height=0.14, downstream_length=0.5, wall_height=0.15, span=0.0, mirror=True))
-
-DEFAULTS = {"scene.end_time": 0.4, "scene.gravity": (0.0, 0.0, -9.81), "numerics.spacing": 0.00125,
-            "solid.density": 1100.0, "solid.young_modulus": 12.0e6, "solid.poisson_ratio": 0.4,
-            "output.timeseries_interval": 2.0e-3, "output.snapshot_interval": 0.02}
-
-
-def check(values):
-    gate.check(values)
-
-
-# the water levels' lines (probes.py, water_height) stand this far from the back wall and from the gate's wet face:
-# beyond the kernel's reach at 5/3 mm (2h = 4.3 mm), so the wall and the gate, which rise above the water, do not
-# count as water
-LEVEL_LINE_OFFSET = 0.01
-
-
-def build(values):
-    """gate.build, with the water's level measured at the back wall and just behind the gate (`level_back`,
-    `level_gate`, m above the floor): what separates a gate too stiff from a load that falls too fast (the water
-    level behind the gate sets the load; docs/validation/OPEN.md 1.2)."""
-    built = gate.build(values)
-    c = gate.layer_counts(values)
-    dp = values["numerics.spacing"]
-    side = -1.0 if values["geometry.mirror"] else 1.0      # the reservoir's side of the gate
-    face, back = c["nt"] * dp, (c["nt"] + c["na"]) * dp    # the gate's wet face and the back wall, |x|
-    y = 0.5 * gate.span_layers(values) * dp
-    built.probes = built.probes + [
-        ProbeSpec("level_back", "water_height", position=np.array([side * (back - LEVEL_LINE_OFFSET), y, 0.0])),
-        ProbeSpec("level_gate", "water_height", position=np.array([side * (face + LEVEL_LINE_OFFSET), y, 0.0]))]
-    return built
-
+from ...answers.references import antoci_gate_tip
+from . import Case, gate
 
 def compare_with_experiment(t, sim, t_exp, y_exp):
     """Peak (largest value) and its time, simulated and measured, and the RMS difference at the measured times
@@ -115,3 +80,6 @@ def evaluate(series, values):
     err = out["tip_x_rms_over_exp_peak"]
     out["error"] = err if math.isfinite(err) else None
     return out
+
+
+CASE = Case("antoci_gate", check=gate.check, sample=gate.sample, sample_fluid=gate.sample_fluid, evaluate=evaluate)
