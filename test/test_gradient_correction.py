@@ -80,7 +80,7 @@ def test_momentum_pass_conserves_momentum_with_and_without_correction():
         assert np.abs(total).max() < 1e-12 * scale
 
 
-# ---- quadratic fit (solid.velocity_gradient: quadratic, sph_fsi_core/solid/fitted_gradient.py) -------------------------------
+# ---- quadratic fit (solid.velocity_gradient: quadratic, sph_fsi_core/solid/fitted_gradient.py) -----------------------
 
 def _beam_cloud(jitter=0.0, seed=0):
     """The paper's beam cross-section (4 x 6 particles) over 12 mm of length, optionally jittered."""

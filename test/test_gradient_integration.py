@@ -136,7 +136,7 @@ def test_gradient_energy_of_a_pressure_gradient_is_its_volumetric_energy():
 
 
 # The pressure explicit and the fit remade, as these were measured: they watch the energy, which the implicit
-# pressure (the default scheme's since 2026-12-03) does not keep: it damps the pressure waves (test_implicit_pressure.py)
+# pressure (the default scheme's) does not keep: it damps the pressure waves (test_implicit_pressure.py)
 SMALL_BEAM = ["geometry.length=0.012", "geometry.width=0.003", "geometry.clamp_margin=2",
               "output.snapshot_interval=0", "output.timeseries_interval=5e-5", "scene.end_time=0.03",
               "solid.artificial_viscosity_alpha=0", "solid.pressure=explicit", "solid.fit_refresh=remake"]
