@@ -45,6 +45,10 @@ class Boundary:
         self.solid = solid
         self.part_motions = dict(part_motions or {})
         self.time = 0.0
+        self.commands = []       # (stamp, order, name, kind, values) waiting for their step (command)
+        self.applied = []        # (time applied, name, kind, values) since the runner last took them
+        self.refused = []        # (time, name, why) since the runner last took them
+        self._ordinal = 0
         # the fastest a moving wall's particle goes over the run (the water's step follows it: fluid/phase.py)
         self.wall_speed = max([motion.speed_bound(float(np.sqrt(((built - motion.point) ** 2).sum(axis=1)).max()))
                                for _, built, motion in self.motions if motion in self.part_motions.values()],
@@ -113,9 +117,48 @@ class Boundary:
         self.motions = [m for m in self.motions if not (isinstance(m[2], Linear) and m[2].done(t))]
         return moved
 
+    def commanded(self):
+        """The names of the walls driven by commands (motion ros), in file order."""
+        return [name for name, motion in self.part_motions.items() if isinstance(motion, Commanded)]
+
+    def command(self, name, stamp, kind, values):
+        """Queue a command for commanded wall `name`, applied at the first fluid step that starts at or after
+        `stamp` (s; a stamp already past: the next step). kind 'pose': values (rotation (3, 3), shift (3,)); kind
+        'velocity': (linear (3,), angular (3,)). ValueError for a part that takes no commands."""
+        if not isinstance(self.part_motions.get(name), Commanded):
+            raise ValueError(f"part {name!r} takes no commands; allowed: " + (", ".join(self.commanded()) or "none"))
+        self._ordinal += 1
+        self.commands.append((float(stamp), self._ordinal, name, kind, tuple(np.asarray(v, dtype=np.float64)
+                                                                               for v in values)))
+        self.commands.sort(key=lambda c: c[:2])
+
+    def apply_commands(self, t):
+        """The queued commands stamped at or before t, applied at t in stamp order (those a wall cannot follow
+        refused, into `refused`: motion.Commanded.refusal); True if some applied."""
+        applied = False
+        while self.commands and self.commands[0][0] <= t:
+            _, _, name, kind, values = self.commands.pop(0)
+            motion = self.part_motions[name]
+            why = (motion.refusal(t, rotation=values[0], shift=values[1]) if kind == "pose"
+                   else motion.refusal(t, velocity=values[0], spin=values[1]))
+            if why is not None:
+                self.refused.append((t, name, why))
+                continue
+            (motion.command_pose if kind == "pose" else motion.command_velocity)(t, *values)
+            self.applied.append((t, name, kind, values))
+            applied = True
+        return applied
+
     def part_motion(self, name):
         """The motion of moving wall `name` (motion.Motion), or None for a part that stays."""
         return self.part_motions.get(name)
+
+    def part_pose(self, name):
+        """(position (3,) m, rotation (3, 3)) of moving wall `name` now: where its motion's point has gone, and how
+        the wall is turned from its built pose."""
+        motion = self.part_motions[name]
+        rotation, shift = motion.pose(self.time)
+        return motion.point + shift, (np.eye(3) if rotation is None else rotation)
 
     def carried(self, name, points):
         """Points (P, 3) that ride on part `name`, from where they were at its built pose to where the part is now

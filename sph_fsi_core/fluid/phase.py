@@ -235,6 +235,15 @@ class FluidPhase:
             f.vel[self.lost] = 0.0
 
     # ---- read-only views -----------------------------------------------------------------------------------
+    def wrench(self, rows, point):
+        """(force (3,) N, moment (3,) N m about `point`) of the water on the wall rows `rows` (boundary rows), from
+        the last step's pressures (fluid.solver.FluidSolver.wall_forces, each row a group of its own)."""
+        group = np.full(self.boundary.count, -1, dtype=np.int64)
+        group[rows] = np.arange(len(rows))
+        forces = self.solver.wall_forces(group, len(rows))
+        arms = self.boundary.pos[rows] - point
+        return forces.sum(axis=0), np.cross(arms, forces).sum(axis=0)
+
     def kinetic_energy(self):
         f = self.fluid
         return float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())
