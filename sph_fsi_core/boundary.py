@@ -22,6 +22,8 @@ import numpy as np
 from .motion import Commanded, Linear
 
 KINDS = ("walls", "gate", "solid")
+# a command's stamp is whole nanoseconds (a ROS time): it applies at a step starting within half of one after it
+STAMP_RESOLUTION = 1e-9
 
 
 class Boundary:
@@ -45,9 +47,9 @@ class Boundary:
         self.solid = solid
         self.part_motions = dict(part_motions or {})
         self.time = 0.0
-        self.commands = []       # (stamp, order, name, kind, values) waiting for their step (command)
-        self.applied = []        # (time applied, name, kind, values) since the runner last took them
-        self.refused = []        # (time, name, why) since the runner last took them
+        self.commands = []       # (stamp, order, name, kind, values, source) waiting for their step (command)
+        self.applied = []        # (time applied, name, kind, values, source), in order
+        self.refused = []        # (time, name, why), in order
         self._ordinal = 0
         # the fastest a moving wall's particle goes over the run (the water's step follows it: fluid/phase.py)
         self.wall_speed = max([motion.speed_bound(float(np.sqrt(((built - motion.point) ** 2).sum(axis=1)).max()))
@@ -121,23 +123,25 @@ class Boundary:
         """The names of the walls driven by commands (motion ros), in file order."""
         return [name for name, motion in self.part_motions.items() if isinstance(motion, Commanded)]
 
-    def command(self, name, stamp, kind, values):
+    def command(self, name, stamp, kind, values, source=None):
         """Queue a command for commanded wall `name`, applied at the first fluid step that starts at or after
-        `stamp` (s; a stamp already past: the next step). kind 'pose': values (rotation (3, 3), shift (3,)); kind
-        'velocity': (linear (3,), angular (3,)). ValueError for a part that takes no commands."""
+        `stamp` (s, to the nanosecond: STAMP_RESOLUTION; a stamp already past: the next step). kind 'pose':
+        values (rotation (3, 3), shift (3,)); kind 'velocity': (linear (3,), angular (3,)); `source`: the command as
+        it came (a message's numbers), kept with it in `applied` for the record. ValueError for a part that takes
+        no commands."""
         if not isinstance(self.part_motions.get(name), Commanded):
             raise ValueError(f"part {name!r} takes no commands; allowed: " + (", ".join(self.commanded()) or "none"))
         self._ordinal += 1
-        self.commands.append((float(stamp), self._ordinal, name, kind, tuple(np.asarray(v, dtype=np.float64)
-                                                                               for v in values)))
+        self.commands.append((float(stamp), self._ordinal, name, kind,
+                              tuple(np.asarray(v, dtype=np.float64) for v in values), source))
         self.commands.sort(key=lambda c: c[:2])
 
     def apply_commands(self, t):
         """The queued commands stamped at or before t, applied at t in stamp order (those a wall cannot follow
         refused, into `refused`: motion.Commanded.refusal); True if some applied."""
         applied = False
-        while self.commands and self.commands[0][0] <= t:
-            _, _, name, kind, values = self.commands.pop(0)
+        while self.commands and self.commands[0][0] <= t + STAMP_RESOLUTION / 2:
+            _, _, name, kind, values, source = self.commands.pop(0)
             motion = self.part_motions[name]
             why = (motion.refusal(t, rotation=values[0], shift=values[1]) if kind == "pose"
                    else motion.refusal(t, velocity=values[0], spin=values[1]))
@@ -145,7 +149,7 @@ class Boundary:
                 self.refused.append((t, name, why))
                 continue
             (motion.command_pose if kind == "pose" else motion.command_velocity)(t, *values)
-            self.applied.append((t, name, kind, values))
+            self.applied.append((t, name, kind, values, source))
             applied = True
         return applied
 
