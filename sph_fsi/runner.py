@@ -320,7 +320,10 @@ class Runner:
                     self.advance(interruptible=True)
                 continue
             if time.monotonic() - self._last_diag_wall >= 1.0:
-                self._publish_diagnostics()
+                if self.lockstep_waiting():    # the frame it waits on again: a controller that joined late gets it
+                    self._publish_frame()
+                else:
+                    self._publish_diagnostics()
             self._wait(1.0)
 
     def _wait(self, seconds):
