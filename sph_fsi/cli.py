@@ -170,6 +170,11 @@ def _cmd_run(args):
         spec = spec.with_overrides({"scene.end_time": args.end_time})
         if restart is not None:
             restart["sim"].spec = spec
+    commands = None
+    if args.commands:
+        from sph_fsi.recording.commands import check_parts, read_commands
+        commands = read_commands(args.commands)
+        check_parts(commands, spec.values, f"--commands {args.commands}")
     if args.checkpoint:
         _check_writable_file("--checkpoint", args.checkpoint)
     mcap = _check_writable_file("--mcap", args.mcap)
@@ -208,6 +213,9 @@ def _cmd_run(args):
             state["samples"] += 1
             if state["samples"] == 1:
                 announce(sim)
+                if commands is not None:
+                    from sph_fsi.recording.commands import queue_commands
+                    queue_commands(sim, commands, f"--commands {args.commands}")
             if cold and state["samples"] == 2:   # the first call is the initial state, the second the first step
                 print(f"sph-fsi: compiled and took the first step in {time.perf_counter() - started:.0f} s",
                       file=sys.stderr)
@@ -398,6 +406,9 @@ def build_parser():
                    help="where checkpoints go (default OUT/checkpoint.ckpt; each replaces the last)")
     p.add_argument("--restart", default=None, metavar="FILE",
                    help="continue the run a checkpoint holds (its scene and settings), to the bit")
+    p.add_argument("--commands", default=None, metavar="FILE",
+                   help="give the scene's commanded walls (motion: ros) the commands a recorded run applied (its "
+                        "MCAP file), each at the step it applied at: the recorded run again, to the bit")
     p.set_defaults(func=_cmd_run)
     p = sub.add_parser("compile", help="compile and cache a scene's kernels now, so that its runs start stepping at "
                                        "once (make install does it for the main job)")

@@ -12,15 +12,18 @@ import array
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Point, PointStamped, Vector3, Vector3Stamped, Wrench, WrenchStamped
+from geometry_msgs.msg import (Point, PointStamped, Pose, PoseStamped, Quaternion, Vector3, Vector3Stamped, Wrench,
+                               WrenchStamped)
 from sensor_msgs.msg import FluidPressure, PointCloud2, PointField
 from std_msgs.msg import Header
 
-from .points import PARTICLE_DTYPE, PHASE_FLUID, PHASE_SOLID, WALL_DTYPE  # layouts, defined ROS-free
+from .points import (PARTICLE_DTYPE, PHASE_FLUID, PHASE_SOLID, WALL_DTYPE,  # layouts, defined ROS-free
+                     part_topic)
 
 __all__ = ["PHASE_FLUID", "PHASE_SOLID", "PARTICLE_DTYPE", "WALL_DTYPE", "particle_array", "wall_array",
            "structured_to_cloud", "particles_to_cloud", "walls_to_cloud", "cloud_to_structured",
-           "stamp_from_seconds", "seconds_from_stamp", "probe_message"]
+           "stamp_from_seconds", "seconds_from_stamp", "probe_message", "part_messages", "pose_command",
+           "twist_command"]
 
 # NumPy (kind, itemsize) <-> PointField datatype
 _TO_POINTFIELD = {("i", 1): PointField.INT8, ("u", 1): PointField.UINT8, ("i", 2): PointField.INT16,
@@ -140,3 +143,33 @@ def probe_message(quantity, value, header):
     if quantity == "force":
         return WrenchStamped(header=header, wrench=Wrench(force=_vector3(value), torque=Vector3()))
     raise ValueError(f"probe quantity {quantity!r}: no message type")
+
+
+def _vector(v):
+    return Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2]))
+
+
+def part_messages(readings, header):
+    """[(topic, message)] of the commanded walls' readings (sph_fsi.points.part_readings): parts/<name>/pose
+    (PoseStamped) and parts/<name>/wrench (WrenchStamped)."""
+    out = []
+    for name, r in readings.items():
+        (x, y, z), (qx, qy, qz, qw) = r["position"], r["orientation"]
+        pose = Pose(position=Point(x=x, y=y, z=z), orientation=Quaternion(x=qx, y=qy, z=qz, w=qw))
+        out.append((part_topic(name, "pose"), PoseStamped(header=header, pose=pose)))
+        out.append((part_topic(name, "wrench"), WrenchStamped(header=header, wrench=Wrench(
+            force=_vector(r["force"]), torque=_vector(r["moment"])))))
+    return out
+
+
+def pose_command(msg):
+    """(stamp s, 'pose_cmd', (position (3,), quaternion (x, y, z, w))) of a pose_cmd message (points.command_values
+    makes the boundary's command of it)."""
+    p, q = msg.pose.position, msg.pose.orientation
+    return seconds_from_stamp(msg.header.stamp), "pose_cmd", ((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+
+
+def twist_command(msg):
+    """(stamp s, 'twist_cmd', (linear m/s, angular rad/s)) of a twist_cmd message."""
+    v, w = msg.twist.linear, msg.twist.angular
+    return seconds_from_stamp(msg.header.stamp), "twist_cmd", ((v.x, v.y, v.z), (w.x, w.y, w.z))

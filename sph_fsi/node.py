@@ -33,7 +33,8 @@ scene's own values at the next ~/reset.
 Topics exist only for what the scene has (sph_fsi.publishing, README.md "ROS 2 node"): ~/particles (moving
 particles of every phase), ~/walls (fixed particles; transient-local, after every build), ~/tip_displacement (a
 probe named 'tip'), ~/strain_energy (a solid), ~/probes/<name>/<quantity> (one per quantity of each of the
-scene's probes), /clock and /diagnostics (always). Nothing is published from a diverged state.
+scene's probes), ~/parts/<name>/pose and /wrench (a wall driven by commands, which it takes on ~/parts/<name>/pose_cmd
+and /twist_cmd), /clock and /diagnostics (always). Nothing is published from a diverged state.
 """
 import os
 import signal
@@ -144,6 +145,7 @@ class SphFsiNode(Node):
         self.publishing = Publishing(self)
         self.runner = Runner(spec, node_values, out=self, log=self.get_logger(),
                              namespace=self.get_fully_qualified_name())
+        self.publishing.on_command = self.runner.part_command
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.create_service(Trigger, "~/reset", self._srv_reset)
         self.create_service(SetBool, "~/pause", self._srv_pause)

@@ -27,6 +27,10 @@ NODE_PARAMS = {p.key: p for p in [
           kind="str", choices=("reliable", "sensor_data")),
     Param("on_end", "stay", "", "At end_time: 'stay' (keep serving, report finished) or 'exit' (exit status 0)",
           kind="str", choices=("stay", "exit"), rebuild=False),
+    Param("lockstep", False, "", "With walls driven by commands (parts.<name>.motion = ros): before each outer step, "
+          "wait until every such wall has a command stamped at or after the simulated time (a closed loop runs "
+          "the same whatever the host's speed; while it waits, the frame it waits on goes out again every second)",
+          kind="bool", rebuild=False),
     # Recordings (sph_fsi.recording): opened when the simulation is built; each ~/reset closes the files and
     # starts new ones named <stem>_<n><suffix> (n = 1, 2, ...).
     Param("mcap_path", "", "", "Record the node's topics to this MCAP file ('' = no MCAP recording)", kind="str"),

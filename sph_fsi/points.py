@@ -18,6 +18,14 @@ Topics (`topic_plan`, names relative to the node, `topic_type`): particles, wall
                                                           (x, y, z) m above the probe's position
     force         probes/<name>/force                     geometry_msgs/msg/WrenchStamped: force N, torque 0
 
+and for each wall driven by commands (parts.<name>.motion = ros), `parts/<name>/...`:
+
+    pose          geometry_msgs/msg/PoseStamped: where its motion_point is, and its turn from the built pose
+    wrench        geometry_msgs/msg/WrenchStamped: the water's force N and moment N m about that point
+    pose_cmd      geometry_msgs/msg/PoseStamped, taken: the pose to reach over motion_period (relative to the
+                  built pose: the point's position and the turn); recorded as applied, stamped when it applied
+    twist_cmd     geometry_msgs/msg/TwistStamped, taken: linear m/s and angular rad/s velocities; recorded so
+
 Their values are `probe_readings(sim)` (Simulation.probe_readings: at the end of the last outer step), so every
 output (topics, MCAP, Rerun) reports the same numbers as the time series.
 """
@@ -130,6 +138,8 @@ def probe_topic(name, quantity):
 
 def topic_type(topic):
     """A topic_plan name -> its message type ('geometry_msgs/msg/Vector3Stamped')."""
+    if topic.startswith("parts/"):
+        return PART_TYPES[topic.rsplit("/", 1)[1]]
     if topic.startswith("probes/"):
         return QUANTITY_TYPES[topic.rsplit("/", 1)[1]]
     return TOPIC_TYPES[topic]
@@ -167,9 +177,81 @@ def probe_values(readings):
     return out
 
 
+# a commanded wall's topics (parts/<name>/<what>): what the node publishes, and the commands it takes (recorded)
+PART_TYPES = {"pose": "geometry_msgs/msg/PoseStamped", "wrench": "geometry_msgs/msg/WrenchStamped",
+              "pose_cmd": "geometry_msgs/msg/PoseStamped", "twist_cmd": "geometry_msgs/msg/TwistStamped"}
+
+
+def part_topic(name, what):
+    return f"parts/{name}/{what}"
+
+
+def commanded_parts(sim):
+    """The scene's walls driven by commands (parts.<name>.motion = ros), in file order."""
+    boundary = getattr(sim, "boundary", None)
+    return boundary.commanded() if boundary is not None else []
+
+
+def quaternion(rotation):
+    """(x, y, z, w) of a rotation matrix (Shepperd's method: the largest of the four first)."""
+    r = np.asarray(rotation, dtype=np.float64)
+    trace = r[0, 0] + r[1, 1] + r[2, 2]
+    if trace > 0.0:
+        s = 2.0 * np.sqrt(1.0 + trace)
+        q = ((r[2, 1] - r[1, 2]) / s, (r[0, 2] - r[2, 0]) / s, (r[1, 0] - r[0, 1]) / s, 0.25 * s)
+    else:
+        i = int(np.argmax(np.diag(r)))
+        j, k = (i + 1) % 3, (i + 2) % 3
+        s = 2.0 * np.sqrt(1.0 + r[i, i] - r[j, j] - r[k, k])
+        q = [0.0, 0.0, 0.0, (r[k, j] - r[j, k]) / s]
+        q[i], q[j], q[k] = 0.25 * s, (r[j, i] + r[i, j]) / s, (r[k, i] + r[i, k]) / s
+    return tuple(float(v) for v in q)
+
+
+def rotation_matrix(x, y, z, w):
+    """The rotation matrix of a quaternion (x, y, z, w), normalised first (ValueError for one of length 0)."""
+    norm = float(np.sqrt(x * x + y * y + z * z + w * w))
+    if not norm > 0.0:
+        raise ValueError("the orientation's quaternion has length 0")
+    x, y, z, w = x / norm, y / norm, z / norm, w / norm
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def command_values(point, what, numbers):
+    """The boundary's command (kind, values) of a command topic's numbers (sph_fsi_core.boundary.Boundary.command):
+    a pose_cmd's (position, quaternion) -> ('pose', (rotation, position - point)), the wall's motion_point `point`
+    to go to the position, turned by the quaternion from the built pose; a twist_cmd's (linear, angular) ->
+    ('velocity', ...). The same numbers give the same bits (a replay's commands are a run's). ValueError for a
+    quaternion of length 0."""
+    first, second = (np.asarray(v, dtype=np.float64) for v in numbers)
+    if what == "pose_cmd":
+        return "pose", (rotation_matrix(*second), first - point)
+    return "velocity", (first, second)
+
+
+def part_readings(sim):
+    """{name: {'position': (x, y, z) m, 'orientation': (x, y, z, w), 'force': N, 'moment': N m}} of each commanded
+    wall now: its motion's point and turn, and the water's wrench on it about that point from the last fluid step
+    (zero before the first)."""
+    out = {}
+    for name in commanded_parts(sim):
+        position, rotation = sim.boundary.part_pose(name)
+        force = moment = np.zeros(3)
+        rows = sim.boundary.part_rows(name)
+        if sim.fluid_phase is not None and sim.fluid_phase.steps:
+            force, moment = sim.fluid_phase.wrench(rows, position)
+        out[name] = {"position": _plain(position), "orientation": quaternion(rotation), "force": _plain(force),
+                     "moment": _plain(moment)}
+    return out
+
+
 def topic_plan(sim):
     """Names of the scene-dependent topics this simulation has (module docstring)."""
     names = set()
+    for name in commanded_parts(sim):
+        names.update(part_topic(name, what) for what in PART_TYPES)
     if moving_particles(sim):
         names.add("particles")
     if len(wall_positions(sim)):

@@ -4,18 +4,23 @@ a simulation, stamped with simulated time. Called from the simulation thread onl
 ~/particles (PointCloud2, moving particles of every phase), ~/walls (PointCloud2, fixed particles; reliable,
 transient-local, after every build), ~/tip_displacement (Vector3Stamped, a probe named 'tip'), ~/strain_energy
 (Float64, a solid), one topic per probe quantity, ~/probes/<name>/<quantity> (displacement and velocity:
-Vector3Stamped, pressure: FluidPressure, surface: PointStamped, force: WrenchStamped; sph_fsi.points), /clock and
-/diagnostics (always). A frame's messages all carry the simulated time at the end of its last outer step.
+Vector3Stamped, pressure: FluidPressure, surface: PointStamped, force: WrenchStamped; sph_fsi.points), for each wall
+driven by commands ~/parts/<name>/pose and ~/parts/<name>/wrench, and the subscriptions it takes commands on,
+~/parts/<name>/pose_cmd and ~/parts/<name>/twist_cmd (the callbacks on the executor's thread hand them to
+`on_command`), /clock and /diagnostics (always). A frame's messages all carry the simulated time at the end of its
+last outer step.
 """
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-from geometry_msgs.msg import PointStamped, Vector3, Vector3Stamped, WrenchStamped
+from geometry_msgs.msg import PointStamped, PoseStamped, TwistStamped, Vector3, Vector3Stamped, WrenchStamped
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy, qos_profile_sensor_data
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import FluidPressure, PointCloud2
 from std_msgs.msg import Float64, Header
 
-from .messages import probe_message, stamp_from_seconds, structured_to_cloud, walls_to_cloud
-from .points import particle_points, probe_readings, probe_values, topic_plan, topic_type, wall_positions
+from .messages import (part_messages, pose_command, probe_message, stamp_from_seconds, structured_to_cloud,
+                       twist_command, walls_to_cloud)
+from .points import (command_values, commanded_parts, part_readings, particle_points, probe_readings, probe_values,
+                     topic_plan, topic_type, wall_positions)
 
 __all__ = ["Publishing", "TOPIC_TYPES", "LEVELS", "topic_class"]
 
@@ -23,7 +28,10 @@ TOPIC_TYPES = {"particles": PointCloud2, "walls": PointCloud2, "tip_displacement
                "strain_energy": Float64}
 _CLASSES = {"sensor_msgs/msg/PointCloud2": PointCloud2, "geometry_msgs/msg/Vector3Stamped": Vector3Stamped,
             "std_msgs/msg/Float64": Float64, "sensor_msgs/msg/FluidPressure": FluidPressure,
-            "geometry_msgs/msg/PointStamped": PointStamped, "geometry_msgs/msg/WrenchStamped": WrenchStamped}
+            "geometry_msgs/msg/PointStamped": PointStamped, "geometry_msgs/msg/WrenchStamped": WrenchStamped,
+            "geometry_msgs/msg/PoseStamped": PoseStamped, "geometry_msgs/msg/TwistStamped": TwistStamped}
+# the commanded walls' topics the node takes (the others it publishes)
+COMMAND_TOPICS = ("pose_cmd", "twist_cmd")
 LEVELS = {"ok": DiagnosticStatus.OK, "warn": DiagnosticStatus.WARN, "error": DiagnosticStatus.ERROR}
 
 
@@ -36,9 +44,15 @@ class Publishing:
     """The publishers of one node; `ok()` turns False once its context shuts down (publishing then stops
     quietly)."""
 
-    def __init__(self, node):
+    def __init__(self, node, on_command=None):
+        """`on_command(part, stamp, kind, values, source)`: where a commanded wall's commands go (sph_fsi.runner
+        .Runner.part_command), with the message's numbers as `source`; a command that cannot be read arrives as
+        kind 'unreadable' with the reason."""
         self.node = node
+        self.on_command = on_command
         self.pubs = {}
+        self.subs = {}
+        self._points = {}                       # each commanded wall's motion_point (its pose commands' origin)
         self.qos = None                         # the streamed topics' QoS name, once created
         self.clock = node.create_publisher(Clock, "/clock", QoSProfile(depth=10))
         self.diagnostics = node.create_publisher(DiagnosticArray, "/diagnostics", QoSProfile(depth=10))
@@ -61,9 +75,31 @@ class Publishing:
         stream_qos = qos_profile_sensor_data if qos == "sensor_data" else QoSProfile(depth=10)
         latched = QoSProfile(depth=1, history=HistoryPolicy.KEEP_LAST, reliability=ReliabilityPolicy.RELIABLE,
                              durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        for name in sorted(want - set(self.pubs)):
+        self._points = {name: sim.boundary.part_motion(name).point.copy() for name in commanded_parts(sim)}
+        takes = {t for t in want if t.rsplit("/", 1)[-1] in COMMAND_TOPICS}
+        for name in list(self.subs):
+            if name not in takes:
+                self.node.destroy_subscription(self.subs.pop(name))
+        for name in sorted(takes - set(self.subs)):
+            self.subs[name] = self.node.create_subscription(topic_class(name), f"~/{name}",
+                                                            self._command_callback(name), QoSProfile(depth=10))
+        for name in sorted(want - takes - set(self.pubs)):
             self.pubs[name] = self.node.create_publisher(topic_class(name), f"~/{name}",
                                                          latched if name == "walls" else stream_qos)
+
+    def _command_callback(self, topic):
+        """The callback of a commanded wall's command topic (executor thread): the command, read, to on_command."""
+        part, what = topic.split("/")[1], topic.rsplit("/", 1)[1]
+
+        def take(msg):
+            stamp, _, numbers = pose_command(msg) if what == "pose_cmd" else twist_command(msg)
+            try:
+                kind, values = command_values(self._points[part], what, numbers)
+            except ValueError as exc:
+                kind, values, numbers = "unreadable", str(exc), None
+            if self.on_command is not None:
+                self.on_command(part, stamp, kind, values, (what, numbers))
+        return take
 
     def publish_walls(self, sim, frame_id):
         pub = self.pubs.get("walls")
@@ -89,6 +125,11 @@ class Publishing:
                 pub = self.pubs.get(topic)
                 if pub is not None:
                     pub.publish(probe_message(quantity, value, header))
+            if commanded_parts(sim):
+                for topic, msg in part_messages(part_readings(sim), header):
+                    pub = self.pubs.get(topic)
+                    if pub is not None:
+                        pub.publish(msg)
             pub = self.pubs.get("strain_energy")
             if pub is not None:
                 pub.publish(Float64(data=float(sim.energies()["strain_energy"])))

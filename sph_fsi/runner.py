@@ -86,6 +86,8 @@ class Runner:
         self.desired = spec                     # every accepted scene-key value, live and deferred
         self._first_spec = spec
         self._commands = deque()
+        self._part_commands = deque()           # (part, stamp s, kind, values) for the walls driven by commands
+        self._received = {}                     # part -> the latest stamp of a command received (lockstep)
         self._paused = False
         self._stopping = False
         self._finished = False
@@ -104,6 +106,7 @@ class Runner:
         self._out_dir = None                    # this run's out_dir, or None
         self._summary_steps = 0                 # the run's outer steps when its summary was last written
         self._last_diag_wall = 0.0
+        self._refused_seen = 0                  # the boundary's refused commands already reported
         self._thread = threading.Thread(target=self._run, name="simulation", daemon=True)
 
     # ---- called from other threads: answer at once ---------------------------------------------------------
@@ -170,6 +173,53 @@ class Runner:
             self._checkpoints.append(result)
             self._cv.notify_all()
 
+    def part_command(self, name, stamp, kind, values, source=None):
+        """A command for the commanded wall `name` (the node's ~/parts/<name>/pose_cmd or twist_cmd), stamped
+        `stamp` s of simulated time; kind, values and source as sph_fsi_core.boundary.Boundary.command. The
+        simulation thread hands it to the boundary before its next outer step."""
+        with self._cv:
+            self._part_commands.append((name, float(stamp), kind, values, source))
+            self._received[name] = max(self._received.get(name, -math.inf), float(stamp))
+            self._cv.notify_all()
+
+    def lockstep_waiting(self):
+        """With lockstep on: the commanded walls whose latest command is stamped before the simulated time now
+        (the run waits for them); [] otherwise."""
+        sim = self.sim
+        if not self.settings["lockstep"] or sim is None or sim.boundary is None:
+            return []
+        with self._cv:
+            return [name for name in sim.boundary.commanded()
+                    if self._received.get(name, -math.inf) < sim.time - 0.5e-9]
+
+    def _take_part_commands(self):
+        """Queued commands into the boundary; those it refuses (a part that takes none) reported."""
+        with self._cv:
+            commands = list(self._part_commands)
+            self._part_commands.clear()
+        for name, stamp, kind, values, source in commands:
+            if kind == "unreadable":
+                self._refuse(stamp, name, values)
+                continue
+            try:
+                self.sim.boundary.command(name, stamp, kind, values, source)
+            except (ValueError, AttributeError) as exc:
+                self._refuse(stamp, name, str(exc))
+
+    def _report_refusals(self):
+        """The commands the boundary refused since the last report: a warning each, on the log and /diagnostics."""
+        refused = self.sim.boundary.refused if self.sim.boundary is not None else []
+        for t, name, why in refused[self._refused_seen:]:
+            self._refuse(t, name, why)
+        self._refused_seen = len(refused)
+
+    def _refuse(self, t, name, why):
+        message = f"parts.{name}: command at t = {t:.9g} s refused: {why}"
+        self.log.warning(message)
+        with self._cv:
+            self._last_error = message
+        self._publish_diagnostics()
+
     def pending(self):
         """Keys accepted but waiting for the next reset, sorted."""
         with self._cv:
@@ -215,7 +265,8 @@ class Runner:
         self._write_summary("interrupted")
 
     def status(self):
-        """(level 'ok' | 'warn' | 'error', 'running' | 'paused' | 'finished' | 'diverged' | 'water_lost')."""
+        """(level 'ok' | 'warn' | 'error', 'running' | 'paused' | 'finished' | 'diverged' | 'water_lost' | 'waiting
+        for commands': lockstep, a commanded wall's command for the time now not yet received)."""
         with self._cv:
             if self._stopped is not None:
                 return ("error" if self._stopped.outcome == "diverged" else "warn"), self._stopped.outcome
@@ -223,6 +274,9 @@ class Runner:
                 return "ok", "finished"
             if self._paused:
                 return "ok", "paused"
+        if self.lockstep_waiting():
+            return "ok", "waiting for commands"
+        with self._cv:
             return ("warn" if self._last_error else "ok"), "running"
 
     # ---- the simulation thread ---------------------------------------------------------------------------
@@ -266,17 +320,23 @@ class Runner:
                     self.advance(interruptible=True)
                 continue
             if time.monotonic() - self._last_diag_wall >= 1.0:
-                self._publish_diagnostics()
+                if self.lockstep_waiting():    # the frame it waits on again: a controller that joined late gets it
+                    self._publish_frame()
+                else:
+                    self._publish_diagnostics()
             self._wait(1.0)
 
     def _wait(self, seconds):
         with self._cv:
-            if not self._commands and not self._stopping and (seconds > 0.0):
+            if not self._commands and not self._part_commands and not self._stopping and (seconds > 0.0):
                 self._cv.wait(min(seconds, 1.0))
 
     def _can_run(self):
         with self._cv:
-            return not (self._paused or self._finished or self._stopped is not None or self._stopping)
+            if self._paused or self._finished or self._stopped is not None or self._stopping:
+                return False
+        self._take_part_commands()
+        return not self.lockstep_waiting()
 
     def _sync_end(self):
         """The run's end: the end_time parameter, or (0) the scene's scene.end_time."""
@@ -438,11 +498,16 @@ class Runner:
         while done < n and not run.at_end:
             if interruptible and self._interrupted():
                 break
+            self._take_part_commands()
+            if done == 0 and self.lockstep_waiting():      # lockstep: a command for each publish period
+                break
             if not run.advance():
                 self._on_stopped()
                 return
             done += 1
             self._take_applies()
+            if sim.boundary is not None and sim.boundary.refused:
+                self._report_refusals()
         now = time.monotonic()
         if self._compiling_since is not None and done:
             # the first step carried the compilation: say how long it took, and keep it out of the rate and ETA

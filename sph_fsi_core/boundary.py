@@ -12,25 +12,28 @@ part, in this order:
 
 `Boundary` hands the rows out by name: a block by its kind, and a geometry scene's part by its own name
 (scenes/built.Built.parts), so the force probes and the coupling find their rows without counting offsets. The
-parts that move write their own rows: `move_parts(t)` (the prescribed motions, motion.py: a lifted gate's) and
+parts that move write their own rows: `move_parts(t)` (the prescribed motions, motion.py: a moving wall's, a lifted
+gate's; `carried` moves a probe's point with its part, `wall_speed` bounds the walls' speed for the step) and
 `follow_solid()` (the solid where it is now); `without_gates()` is the boundary from t = 0 when the gates are gone
 at once.
 """
 import numpy as np
 
-from .motion import Linear
+from .motion import Commanded, Linear
 
 KINDS = ("walls", "gate", "solid")
+# a command's stamp is whole nanoseconds (a ROS time): it applies at a step starting within half of one after it
+STAMP_RESOLUTION = 1e-9
 
 
 class Boundary:
     """The water's wall particles: `pos` (M, 3) m and `mass` (M,) kg, in blocks by kind (module docstring), with the
     rows of each block and of each named part. Construct with `Boundary.of`."""
 
-    def __init__(self, blocks, parts, rho0, motions=(), solid=None):
+    def __init__(self, blocks, parts, rho0, motions=(), solid=None, part_motions=None):
         """blocks: [(kind, pos, mass)] in KINDS' order; parts: {name: (kind, indices within that kind's block)};
         motions: [(rows, positions as built, motion.Motion)] of the parts that move; solid: the state.SolidState
-        whose positions the solid block follows."""
+        whose positions the solid block follows; part_motions: {name: motion.Motion} of the moving walls."""
         self.rho0 = float(rho0)
         self.pos = np.ascontiguousarray(np.concatenate([p for _, p, _ in blocks])) if blocks else np.zeros((0, 3))
         self.mass = np.concatenate([m for _, _, m in blocks]) if blocks else np.zeros(0)
@@ -42,6 +45,16 @@ class Boundary:
         self._parts = {name: (kind, np.asarray(indices)) for name, (kind, indices) in parts.items()}
         self.motions = list(motions)
         self.solid = solid
+        self.part_motions = dict(part_motions or {})
+        self.time = 0.0
+        self.commands = []       # (stamp, order, name, kind, values, source) waiting for their step (command)
+        self.applied = []        # (time applied, name, kind, values, source), in order
+        self.refused = []        # (time, name, why), in order
+        self._ordinal = 0
+        # the fastest a moving wall's particle goes over the run (the water's step follows it: fluid/phase.py)
+        self.wall_speed = max([motion.speed_bound(float(np.sqrt(((built - motion.point) ** 2).sum(axis=1)).max()))
+                               for _, built, motion in self.motions if motion in self.part_motions.values()],
+                              default=0.0)
 
     @classmethod
     def of(cls, built, rho0, gates=False, solid=None, solid_mass=None):
@@ -52,6 +65,11 @@ class Boundary:
         if built.walls is not None:
             blocks.append(("walls", built.walls.pos, built.walls.mass))
         motions = []
+        for name, motion in built.motions.items():       # the moving walls, in the walls block
+            rows = built.parts[name][1]
+            if isinstance(motion, Commanded):
+                motion.radius = float(np.sqrt(((built.walls.pos[rows] - motion.point) ** 2).sum(axis=1)).max())
+            motions.append((rows.copy(), built.walls.pos[rows].copy(), motion))
         if gates and built.release_walls is not None:
             first = len(built.walls.pos) if built.walls is not None else 0
             blocks.append(("gate", built.release_walls.pos, built.release_walls.mass))
@@ -61,12 +79,13 @@ class Boundary:
         if solid is not None:
             blocks.append(("solid", solid.pos, solid_mass))
         parts = {name: (phase, idx) for name, (phase, idx) in built.parts.items() if phase != "fluid"}
-        return cls(blocks, parts, rho0, motions, solid)
+        return cls(blocks, parts, rho0, motions, solid, dict(built.motions))
 
     def without_gates(self):
         """The same boundary with its gates gone (released at t = 0): new arrays, the other blocks as they are."""
         blocks = [(kind, self.pos[rows], self.mass[rows]) for kind, rows in self._blocks.items() if kind != "gate"]
-        return Boundary(blocks, self._parts, self.rho0, (), self.solid)
+        walls = [m for m in self.motions if m[2] in self.part_motions.values()]     # the walls block stays first
+        return Boundary(blocks, self._parts, self.rho0, walls, self.solid, self.part_motions)
 
     @property
     def count(self):
@@ -93,11 +112,63 @@ class Boundary:
     def move_parts(self, t):
         """The prescribed motions to time t; True if some rows moved. A motion that has reached its end (a lifted
         gate at its travel) leaves its rows there and is dropped."""
+        self.time = t
         for rows, built, motion in self.motions:
             self.pos[rows] = motion.positions(built, t)
         moved = bool(self.motions)
         self.motions = [m for m in self.motions if not (isinstance(m[2], Linear) and m[2].done(t))]
         return moved
+
+    def commanded(self):
+        """The names of the walls driven by commands (motion ros), in file order."""
+        return [name for name, motion in self.part_motions.items() if isinstance(motion, Commanded)]
+
+    def command(self, name, stamp, kind, values, source=None):
+        """Queue a command for commanded wall `name`, applied at the first fluid step that starts at or after
+        `stamp` (s, to the nanosecond: STAMP_RESOLUTION; a stamp already past: the next step). kind 'pose':
+        values (rotation (3, 3), shift (3,)); kind 'velocity': (linear (3,), angular (3,)); `source`: the command as
+        it came (a message's numbers), kept with it in `applied` for the record. ValueError for a part that takes
+        no commands."""
+        if not isinstance(self.part_motions.get(name), Commanded):
+            raise ValueError(f"part {name!r} takes no commands; allowed: " + (", ".join(self.commanded()) or "none"))
+        self._ordinal += 1
+        self.commands.append((float(stamp), self._ordinal, name, kind,
+                              tuple(np.asarray(v, dtype=np.float64) for v in values), source))
+        self.commands.sort(key=lambda c: c[:2])
+
+    def apply_commands(self, t):
+        """The queued commands stamped at or before t, applied at t in stamp order (those a wall cannot follow
+        refused, into `refused`: motion.Commanded.refusal); True if some applied."""
+        applied = False
+        while self.commands and self.commands[0][0] <= t + STAMP_RESOLUTION / 2:
+            _, _, name, kind, values, source = self.commands.pop(0)
+            motion = self.part_motions[name]
+            why = (motion.refusal(t, rotation=values[0], shift=values[1]) if kind == "pose"
+                   else motion.refusal(t, velocity=values[0], spin=values[1]))
+            if why is not None:
+                self.refused.append((t, name, why))
+                continue
+            (motion.command_pose if kind == "pose" else motion.command_velocity)(t, *values)
+            self.applied.append((t, name, kind, values, source))
+            applied = True
+        return applied
+
+    def part_motion(self, name):
+        """The motion of moving wall `name` (motion.Motion), or None for a part that stays."""
+        return self.part_motions.get(name)
+
+    def part_pose(self, name):
+        """(position (3,) m, rotation (3, 3)) of moving wall `name` now: where its motion's point has gone, and how
+        the wall is turned from its built pose."""
+        motion = self.part_motions[name]
+        rotation, shift = motion.pose(self.time)
+        return motion.point + shift, (np.eye(3) if rotation is None else rotation)
+
+    def carried(self, name, points):
+        """Points (P, 3) that ride on part `name`, from where they were at its built pose to where the part is now
+        (the time of the last move_parts); as they are for a part that stays."""
+        motion = self.part_motions.get(name)
+        return points if motion is None else motion.positions(points, self.time)
 
     def follow_solid(self):
         """The solid block where the solid is now; True if the boundary has one (its rows may have moved)."""

@@ -13,7 +13,8 @@ The kinds, each from rest at the built pose:
                rest (a wavemaker paddle's start)
     table      poses (t, x, y, z [, rx, ry, rz]: m, degrees about x then y then z through `point`) read from a CSV,
                linearly interpolated, held beyond its first and last rows
-    commanded  the pose or the velocity last commanded (a ROS node's part): holds still until a command
+    commanded  the pose or the velocity last commanded (a ROS node's part): still until a command, a pose reached
+               over the control period, no command faster than its maximum speed
 
 Each gives `pose(t)` (R, d) and `speed_bound(radius)`, a bound on the speed of any point within `radius` of its
 rotation's point over the whole run (the water's step keeps a moving wall within a fraction of h per step).
@@ -150,34 +151,90 @@ class Table(Motion):
         return float((shift + turn * radius).max())
 
 
-class Commanded(Motion):
-    """The pose last commanded (a translation and a rotation about `point`, relative to the built pose), or a velocity
-    (linear, m/s, and angular, rad/s) from the pose at the command's time; still until the first command. Its speed
-    bound is the one the scene declares (`max_speed`): commands beyond it are refused where they arrive."""
+def rotation_vector(rotation):
+    """The rotation vector (axis times angle, rad) of a rotation matrix, angle in [0, pi]."""
+    cos = min(max((np.trace(rotation) - 1.0) / 2.0, -1.0), 1.0)
+    angle = math.acos(cos)
+    skew = np.array([rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0],
+                     rotation[1, 0] - rotation[0, 1]])
+    if angle < 1e-12:
+        return 0.5 * skew
+    if math.pi - angle > 1e-6:
+        return angle * skew / (2.0 * math.sin(angle))
+    # near a half turn: the axis from the symmetric part, R = 2 a a^T - I
+    column = int(np.argmax(np.diag(rotation)))
+    axis = (rotation[:, column] + np.eye(3)[:, column]) / math.sqrt(2.0 * (1.0 + rotation[column, column]))
+    return angle * axis
 
-    def __init__(self, point=(0.0, 0.0, 0.0), max_speed=0.0):
+
+class Commanded(Motion):
+    """A wall driven by commands (a ROS node's part), from rest at its built pose until the first one:
+
+    a pose (R, d) is reached from the pose the wall has when the command applies over `period` s at a constant
+    velocity and turn rate, then held; a velocity (linear m/s, angular rad/s about `point` as it moves) holds from
+    the pose the wall has when it applies. `radius`, the farthest of its particles from `point` (boundary.Boundary
+    sets it), makes the speed of any of them at most |v| + |w| radius; a command asking more than `max_speed` is
+    refused (`refusal`), so `speed_bound` holds over the whole run."""
+
+    def __init__(self, point=(0.0, 0.0, 0.0), max_speed=0.0, period=0.01):
         self.point = np.asarray(point, dtype=np.float64)
-        self.max_speed = float(max_speed)
+        self.max_speed, self.period = float(max_speed), float(period)
+        self.radius = 0.0
         self._since, self._rotation, self._shift = 0.0, np.eye(3), np.zeros(3)
-        self._velocity, self._spin = np.zeros(3), np.zeros(3)
+        self._velocity, self._spin, self._until = np.zeros(3), np.zeros(3), math.inf
+
+    def _rates_to(self, t, rotation, shift):
+        """(velocity, spin) that reach the pose (rotation, shift) from the pose at t over the period."""
+        now_rotation, now_shift = self.pose(t)
+        spin = rotation_vector(np.asarray(rotation, dtype=np.float64) @ now_rotation.T) / self.period
+        return (np.asarray(shift, dtype=np.float64) - now_shift) / self.period, spin
+
+    def _speed(self, velocity, spin):
+        return float(np.sqrt(velocity @ velocity) + np.sqrt(spin @ spin) * self.radius)
+
+    def refusal(self, t, rotation=None, shift=None, velocity=None, spin=None):
+        """Why a pose command (rotation, shift) or a velocity command (velocity, spin) at time t cannot be
+        followed, or None: a value not finite, or faster than max_speed."""
+        given = [np.asarray(v, dtype=np.float64) for v in (rotation, shift, velocity, spin) if v is not None]
+        if not all(np.isfinite(v).all() for v in given):
+            return "a value is not finite"
+        if rotation is not None:
+            rotation = np.asarray(rotation, dtype=np.float64)
+            if np.abs(rotation @ rotation.T - np.eye(3)).max() > 1e-6 or np.linalg.det(rotation) < 0.0:
+                return "the orientation is not a rotation (a unit quaternion)"
+            velocity, spin = self._rates_to(t, rotation, shift)
+            what = f"reaching it in motion_period = {self.period:g} s"
+        else:
+            what = "it"
+        speed = self._speed(np.asarray(velocity, dtype=np.float64), np.asarray(spin, dtype=np.float64))
+        if speed > self.max_speed * (1.0 + 1e-9):
+            return (f"{what} moves a particle at {speed:.4g} m/s, faster than motion_max_speed = "
+                    f"{self.max_speed:g} m/s")
+        return None
 
     def command_pose(self, t, rotation, shift):
-        """From time t the pose (R, d), held."""
-        self._since = float(t)
-        self._rotation, self._shift = np.asarray(rotation, dtype=np.float64), np.asarray(shift, dtype=np.float64)
-        self._velocity, self._spin = np.zeros(3), np.zeros(3)
+        """From time t towards the pose (R, d), reached after the period and held."""
+        velocity, spin = self._rates_to(t, rotation, shift)
+        self.command_velocity(t, velocity, spin)
+        self._until = float(t) + self.period
 
     def command_velocity(self, t, velocity, spin):
-        """From time t the velocities `velocity` and `spin`, from the pose the part has then."""
+        """From time t the velocities `velocity` and `spin`, from the pose the wall has then."""
         self._rotation, self._shift = self.pose(t)
-        self._since = float(t)
+        self._since, self._until = float(t), math.inf
         self._velocity, self._spin = np.asarray(velocity, dtype=np.float64), np.asarray(spin, dtype=np.float64)
 
     def pose(self, t):
-        elapsed = max(t - self._since, 0.0)
+        elapsed = min(max(t - self._since, 0.0), self._until - self._since)
         rate = float(np.sqrt(self._spin @ self._spin))
         turn = rotation_about(self._spin / rate, rate * elapsed) if rate > 0.0 else np.eye(3)
         return turn @ self._rotation, self._shift + self._velocity * elapsed
+
+    def velocity(self, t):
+        """(linear m/s, angular rad/s) at time t."""
+        if t < self._since or t >= self._until:
+            return np.zeros(3), np.zeros(3)
+        return self._velocity.copy(), self._spin.copy()
 
     def speed_bound(self, radius):
         return self.max_speed

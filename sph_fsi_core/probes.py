@@ -7,13 +7,14 @@ A probe has a name, a kind and its time-series columns:
                   probe's position when built (its particle's displacement and velocity)
     pressure      `<name>` Pa: the water's pressure at a point on a wall, p = sum_b V_b p_b W(x - x_b) / sum_b V_b W
                   over the water within reach (2h) of the point (Shepard's average; 0 when no water is within
-                  reach), each fluid step's averaged over the outer step, weighted by the steps' lengths
+                  reach), each fluid step's averaged over the outer step, weighted by the steps' lengths; a probe on
+                  a moving wall (its `part`) rides with it
     water_height  `<name>` m: the free surface's height above the probe's position along z: up the vertical line
                   through (x, y) from the position, the first point where the water and the walls stop filling half
                   the kernel, sum_b V_b W(x - x_b) < 1/2 over water and wall particles (the walls count as filled,
                   so the line starts full at a floor), less the position's z; 0 when the line is not filled there.
                   The column standing on the floor, as a wave gauge is wetted: a jet or spray above air is not
-                  counted
+                  counted. With a span (span_x, span_y), the mean over a grid of such lines covering the rectangle
     force         `<name>_fx, _fy, _fz` N: the water's force on a part: on a wall, the pressure pair forces of the
                   fluid step's correction (its accumulated pressures at its end positions, fluid.solver
                   FluidSolver.wall_forces); on a solid, the coupling's push on the part's particles; each fluid
@@ -41,7 +42,8 @@ FILLED = 0.5
 @dataclass
 class ProbeSpec:
     """A probe as a scene builds it (scenes/geometry.py): `point` has its solid particle `index` and that particle's
-    `reference_position`; `pressure` and `water_height` their `position`; `force` the `part` it measures (by name),
+    `reference_position`; `pressure` and `water_height` their `position` (a pressure probe on a moving wall its
+    `part`, which carries it); `force` the `part` it measures (by name),
     its `phase` ('walls', 'gate' or 'solid') and its `indices` in that phase's particles."""
     name: str
     kind: str
@@ -51,6 +53,7 @@ class ProbeSpec:
     phase: str = ""
     indices: np.ndarray = None
     part: str = ""
+    span: tuple = (0.0, 0.0)      # water_height: the rectangle (x, y) its lines cover (0, 0: one line)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -134,6 +137,7 @@ class ProbeSet:
             {"displacement": self.groups, "point": self.points, "pressure": self.pressure,
              "water_height": self.heights, "force": self.forces}[kind].append(probe)
         self._pressure_points = np.array([p.position for p in self.pressure], dtype=np.float64).reshape(-1, 3)
+        self._riding = [(k, p.part) for k, p in enumerate(self.pressure) if p.part]   # on a moving wall
         self._pressure_mean = IntervalMean(len(self.pressure))
         self._force_mean = IntervalMean((len(self.forces), 3))
         self._wall_groups = None
@@ -146,10 +150,19 @@ class ProbeSet:
         """The pressure and force probes' values after a fluid step of `dt`, into their outer step's means."""
         if self.pressure:
             f = sim.fluid
-            self._pressure_mean.add(shepard_pressure(self._pressure_points, f.pos, f.mass, f.rho, f.pressure,
+            self._pressure_mean.add(shepard_pressure(self._points_now(sim), f.pos, f.mass, f.rho, f.pressure,
                                                      sim.h), dt)
         if self.forces:
             self._force_mean.add(self._forces(sim), dt)
+
+    def _points_now(self, sim):
+        """The pressure probes' points, those on a moving wall carried with it (boundary.Boundary.carried)."""
+        if not self._riding:
+            return self._pressure_points
+        points = self._pressure_points.copy()
+        for k, part in self._riding:
+            points[k] = sim.boundary.carried(part, self._pressure_points[k:k + 1])[0]
+        return points
 
     def _groups(self, sim):
         """Each of the water's wall particles' force probe (-1: none): the rows of the probed wall or gate part
@@ -194,13 +207,24 @@ class ProbeSet:
             step = sim.spacing / HEIGHT_SAMPLES_PER_SPACING
             for probe in self.heights:
                 x, y, z0 = probe.position
-                height = surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, sim.h, step)
+                height = np.mean([surface_height(lx, ly, z0, water_pos, water_volume, wall_pos, wall_volume, sim.h,
+                                                 step) for lx, ly in _lines(x, y, probe.span, sim.spacing)])
                 out[probe.name] = ("water_height", {"height": float(height),
                                                     "surface": (float(x), float(y), float(z0 + height))})
         if self.forces:
             for probe, f in zip(self.forces, self._force_mean.take()):
                 out[probe.name] = ("force", {"force": _triple(f)})
         return {name: out[name] for name, _ in self.order}
+
+
+def _lines(x, y, span, spacing):
+    """The (x, y) of a water-height probe's vertical lines: (x, y) itself, or a grid over the rectangle `span`
+    centred on it, as many lines along each axis as whole spacings fit (at least one), each at its cell's centre."""
+    axes = []
+    for centre, length in zip((x, y), span):
+        n = max(int(round(length / spacing)), 1) if length > 0.0 else 1
+        axes.append(centre - 0.5 * length + (np.arange(n) + 0.5) * length / n if length > 0.0 else np.array([centre]))
+    return [(float(a), float(b)) for a in axes[0] for b in axes[1]]
 
 
 def _triple(v):

@@ -167,6 +167,8 @@ class Simulation:
         the fluid step just taken (Satake et al. sec. 2.3)."""
         water, coupling = self.fluid_phase, self.coupling
         for t, dt in water.steps_over(duration, self.time, self.watchdog):
+            if self.boundary.commands:
+                self.boundary.apply_commands(t)
             water.refresh_walls(self.boundary.move_parts(t + dt) | self.boundary.follow_solid())
             water.step(dt)
             if coupling is not None:

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from sph_fsi_core.motion import Commanded, Linear, Sinusoid, Table, euler_xyz, rotation_about
+from sph_fsi_core.motion import Commanded, Linear, Sinusoid, Table, euler_xyz, rotation_about, rotation_vector
 
 BUILT = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.1, 0.2, 0.0], [0.1, 0.2, 0.3]])
 
@@ -61,12 +61,29 @@ def test_a_table_is_interpolated_and_held_beyond_its_ends():
 
 
 def test_commanded_poses_and_velocities():
-    m = Commanded(point=(0.0, 0.0, 0.0), max_speed=1.0)
+    """A pose reached over the period at constant rates, then held; a velocity from the pose the wall has; commands
+    faster than max_speed (the farthest particle's speed |v| + |w| radius) or not finite refused."""
+    m = Commanded(point=(0.0, 0.0, 0.0), max_speed=1.0, period=0.5)
+    m.radius = 0.1
     assert np.array_equal(m.positions(BUILT, 3.0), BUILT)                  # still until a command
-    m.command_pose(1.0, euler_xyz([0.0, 0.0, 90.0]), [0.0, 0.0, 0.5])
-    assert np.allclose(m.positions(BUILT, 2.0)[1], [0.0, 0.1, 0.5], atol=1e-15)
+    turn = euler_xyz([0.0, 0.0, 90.0])
+    assert "faster than motion_max_speed = 1 m/s" in m.refusal(1.0, turn, [0.0, 0.0, 0.5])   # 1 + pi/2 / 0.5 * 0.1
+    m.max_speed = 2.0
+    assert m.refusal(1.0, turn, [0.0, 0.0, 0.5]) is None
+    m.command_pose(1.0, turn, [0.0, 0.0, 0.5])
+    half = m.positions(BUILT, 1.25)[1]                                     # halfway: 45 deg and 0.25 m
+    assert np.allclose(half, [0.1 * math.sqrt(0.5), 0.1 * math.sqrt(0.5), 0.25], atol=1e-15)
+    assert np.allclose(m.positions(BUILT, 1.5)[1], [0.0, 0.1, 0.5], atol=1e-15)
+    assert np.allclose(m.positions(BUILT, 2.0)[1], [0.0, 0.1, 0.5], atol=1e-15)         # held
+    assert np.allclose(m.velocity(1.2)[0], [0.0, 0.0, 1.0]) and not m.velocity(1.6)[0].any()
     m.command_velocity(2.0, [1.0, 0.0, 0.0], [0.0, 0.0, 0.0])
     assert np.allclose(m.positions(BUILT, 2.5)[1], [0.5, 0.1, 0.5], atol=1e-15)
     m.command_velocity(2.5, [0.0, 0.0, 0.0], [0.0, 0.0, math.pi])          # half a turn per second
     assert np.allclose(m.positions(BUILT, 3.5)[1], [0.5, -0.1, 0.5], atol=1e-14)     # about the moved point
+    assert "faster than motion_max_speed = 2" in m.refusal(4.0, velocity=[2.0, 0.0, 0.0], spin=[0.0, 0.0, 1.0])
+    assert m.refusal(4.0, velocity=[float("nan"), 0.0, 0.0], spin=[0.0, 0.0, 0.0]) == "a value is not finite"
+    assert "not a rotation" in m.refusal(4.0, 2.0 * np.eye(3), [0.0, 0.0, 0.0])
+    for angle in (0.0, 1e-9, 0.7, math.pi - 1e-9, math.pi):
+        axis = np.array([0.3, -0.4, math.sqrt(0.75)])
+        assert np.allclose(rotation_vector(rotation_about(axis, angle)), angle * axis, atol=1e-9)
     assert np.allclose(rotation_about([0.0, 0.0, 1.0], math.pi / 2) @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15)

@@ -109,10 +109,12 @@ def fixed_topics():
 
 def scene_topics():
     """{topic as the README names it: message type} of the scene-dependent topics (sph_fsi.points)."""
-    from sph_fsi.points import PROBE_QUANTITIES, QUANTITY_TYPES, TOPIC_TYPES
+    from sph_fsi.points import PART_TYPES, PROBE_QUANTITIES, QUANTITY_TYPES, TOPIC_TYPES
+    from sph_fsi.publishing import COMMAND_TOPICS
     topics = {f"~/{name}": kind for name, kind in TOPIC_TYPES.items()}
     quantities = {q for qs in PROBE_QUANTITIES.values() for q in qs}
     topics.update({f"~/probes/<name>/{q}": QUANTITY_TYPES[q] for q in quantities})
+    topics.update({f"~/parts/<name>/{what}": kind for what, kind in PART_TYPES.items() if what not in COMMAND_TOPICS})
     return topics
 
 
@@ -175,7 +177,8 @@ def check_parameters(text):
             wrong.append(f"parameter {name!r} is not one of the node's")
             continue
         value = NODE_PARAMS[name].default
-        same = (default in ("''", "") and value == "") or default == str(value)
+        same = (default in ("''", "") and value == "") or default == str(value) or (
+            isinstance(value, bool) and default == str(value).lower())
         if not same and isinstance(value, (int, float)) and not isinstance(value, bool):
             try:
                 same = float(default) == float(value)

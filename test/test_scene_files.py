@@ -14,8 +14,8 @@ from sph_fsi.cli import main
 from sph_fsi_core.diagnostics import Diverged, WaterLost
 from sph_fsi_core.fluid.lost_water import LostWater
 from sph_fsi_core.geometry.lattice import Lattice, filled, outer_shell, site_keys
-from sph_fsi_core.geometry.parts import JUDGE_KINDS, PROBE_KINDS, ROLES, SHAPES, judge_params, part_params, \
-    probe_params, reference
+from sph_fsi_core.geometry.parts import JUDGE_KINDS, MOTIONS, PROBE_KINDS, ROLES, SHAPES, judge_params, \
+    part_params, probe_params, reference
 from sph_fsi_core.geometry.shapes import Shape
 from sph_fsi_core.scene import SceneError, defaults_yaml, load_scene
 from sph_fsi_core.scenes import build_scene
@@ -64,7 +64,9 @@ def test_the_reference_lists_every_key_an_entry_can_have_by_role_shape_and_kind(
 
     for role in ROLES:
         for shape in SHAPES:
-            declared = {p.key.rsplit(".", 1)[1] for p in part_params("p", role, shape)}
+            motions = MOTIONS if role == "wall" else ("none",)
+            declared = set().union(*({p.key.rsplit(".", 1)[1] for p in part_params("p", role, shape, motion)}
+                                     for motion in motions))
             assert declared | {"name"} == listed("parts", role, shape), (role, shape)
     for kind in PROBE_KINDS:
         assert {p.key.rsplit(".", 1)[1] for p in probe_params("p", kind)} | {"name"} == listed("probes", kind), kind

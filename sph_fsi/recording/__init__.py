@@ -58,6 +58,7 @@ class Recorder:
         self._tol = 1e-6 * (self.interval or 1e-6)
         self._wall0 = time.perf_counter()
         self._steps0 = step_counts(sim)[0]
+        self._commands_seen = 0          # the boundary's applied commands already recorded
         self.writer = BackgroundWriter(sinks, max_queue=max_queue, log=log)
         if sinks:
             self.writer.submit(capture_static(sim))
@@ -74,7 +75,8 @@ class Recorder:
         return True
 
     def record(self, sim, row=None, status="running"):
-        frame = capture(sim, row, self._diagnostics(sim))
+        frame = capture(sim, row, self._diagnostics(sim), commands_from=self._commands_seen)
+        self._commands_seen += len(frame.commands)
         frame.status = status
         self.writer.submit(frame)
         self.frames += 1

@@ -11,10 +11,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sph_fsi.points import PHASE_CODES, probe_readings, wall_positions
+from sph_fsi.points import PHASE_CODES, commanded_parts, part_readings, probe_readings, quaternion, wall_positions
 from sph_fsi_core.numerics.tensors import von_mises
 
-__all__ = ["Frame", "Static", "Final", "capture", "capture_static"]
+__all__ = ["Frame", "Static", "Final", "capture", "capture_static", "applied_commands"]
 
 
 @dataclass
@@ -35,6 +35,8 @@ class Frame:
     energies: dict              # sim.energies(): 'kinetic_energy', 'strain_energy', 'fluid_kinetic_energy' J
     diagnostics: dict = field(default_factory=dict)   # key -> str, for /diagnostics
     status: str = "running"
+    walls: dict = field(default_factory=dict)     # the commanded walls' readings (sph_fsi.points.part_readings)
+    commands: list = field(default_factory=list)  # commands applied since the last frame (applied_commands)
     _parts: list = None
 
     @property
@@ -71,9 +73,28 @@ def capture_static(sim):
                   probes=tuple(p.name for p in getattr(sim, "probes", [])))
 
 
-def capture(sim, row=None, diagnostics=None):
+def applied_commands(sim, first=0):
+    """The commands the boundary applied from its `first`-th on, as recorded: [(time applied s, part, 'pose_cmd' or
+    'twist_cmd', numbers)], their numbers as they came (a message's: sph_fsi.points.command_values), or for a
+    command given without them, a pose as (its motion_point's position, quaternion), a velocity as (linear,
+    angular)."""
+    boundary = getattr(sim, "boundary", None)
+    out = []
+    for t, name, kind, values, source in (boundary.applied[first:] if boundary is not None else []):
+        if source is not None:
+            out.append((t, name) + tuple(source))
+        elif kind == "pose":
+            rotation, shift = values
+            out.append((t, name, "pose_cmd", (boundary.part_motion(name).point + shift, quaternion(rotation))))
+        else:
+            out.append((t, name, "twist_cmd", values))
+    return out
+
+
+def capture(sim, row=None, diagnostics=None, commands_from=0):
     """A Frame of `sim` now: whole-array copies (a memcpy each, ~3 ms per 1e5 particles), masked later.
-    `row` (a sim.sample() row) saves recomputing the energies."""
+    `row` (a sim.sample() row) saves recomputing the energies; `commands_from`: the first of the boundary's applied
+    commands not yet recorded."""
     raw = []
     for phase in ("fluid", "solid"):
         state = getattr(sim, phase, None)
@@ -91,4 +112,5 @@ def capture(sim, row=None, diagnostics=None):
     if not energies:
         energies = {k: float(v) for k, v in sim.energies().items()}
     return Frame(time=float(sim.time), raw=raw, probes=probes, energies=energies,
-                 diagnostics=dict(diagnostics or {}))
+                 diagnostics=dict(diagnostics or {}), walls=part_readings(sim) if commanded_parts(sim) else {},
+                 commands=applied_commands(sim, commands_from))

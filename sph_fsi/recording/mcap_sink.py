@@ -15,7 +15,7 @@ import numpy as np
 from mcap.writer import CompressionType
 from mcap_ros2.writer import Writer
 
-from sph_fsi.points import QUANTITY_TYPES, WALL_DTYPE, pack_particles, probe_values, topic_type
+from sph_fsi.points import QUANTITY_TYPES, WALL_DTYPE, pack_particles, part_topic, probe_values, topic_type
 from sph_fsi.points import TOPIC_TYPES as SCENE_TOPIC_TYPES
 
 from .frame import Frame, Static
@@ -61,6 +61,11 @@ def cloud_dict(points, stamp, frame_id):
     return {"header": {"stamp": stamp, "frame_id": frame_id}, "height": 1, "width": len(points),
             "fields": _fields(points.dtype), "is_bigendian": False, "point_step": points.dtype.itemsize,
             "row_step": points.dtype.itemsize * len(points), "data": points.tobytes(), "is_dense": True}
+
+
+def _pose(position, orientation):
+    x, y, z, w = orientation
+    return {"position": _xyz(position), "orientation": {"x": float(x), "y": float(y), "z": float(z), "w": float(w)}}
 
 
 def _xyz(v):
@@ -144,6 +149,19 @@ class McapSink:
                 self._put(topic, probe_dict(quantity, value, header), ns)
             if "strain_energy" in item.energies:
                 self._put("strain_energy", {"data": item.energies["strain_energy"]}, ns)
+            for name, r in item.walls.items():
+                self._put(part_topic(name, "pose"), {"header": header, "pose": _pose(r["position"],
+                                                                                     r["orientation"])}, ns)
+                self._put(part_topic(name, "wrench"), {"header": header, "wrench": {
+                    "force": _xyz(r["force"]), "torque": _xyz(r["moment"])}}, ns)
+            for t, name, what, values in item.commands:       # stamped when they applied: a replay's stamps
+                at, at_ns = _stamp(t)
+                command = {"header": {"stamp": at, "frame_id": self.frame_id}}
+                if what == "pose_cmd":
+                    command["pose"] = _pose(*values)
+                else:
+                    command["twist"] = {"linear": _xyz(values[0]), "angular": _xyz(values[1])}
+                self._put(part_topic(name, what), command, at_ns)
             self._put("/clock", {"clock": stamp}, ns)
         self._put("/diagnostics", _diagnostics(header, item), ns)
 

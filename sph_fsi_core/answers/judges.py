@@ -1,7 +1,8 @@
 """A geometry scene's judges: how its time series is held against a reference, declared in the scene file.
 
     frequency  the dominant frequency of a column (answers/oscillation.measure_frequency) against `reference` Hz
-    mean       the column's mean over [from, to] against `reference`
+    mean       the column's mean over [from, to] against `reference`; with a baseline (baseline_from, baseline_to),
+               its change from its mean over the baseline's window (a level's rise)
     series     the column (times `scale`) against a measured series in a CSV file, over [from, to]: the RMS of the
                difference (the simulated series interpolated at the measurement's times), the time shift that
                minimises it (within +-0.2 s, steps of 1 ms) and the RMS after it; with `threshold`, the first time each
@@ -76,6 +77,10 @@ def check_judges(values, columns):
         if 0.0 < keys["to"] <= keys["from"]:
             raise SceneError(f"judge.{name}.to = {keys['to']:g}: not after judge.{name}.from = {keys['from']:g} s, so "
                              f"nothing would be judged; allowed: to > from (or 0: the run's end)")
+        if keys["kind"] != "series" and 0.0 < keys["baseline_to"] <= keys["baseline_from"]:
+            raise SceneError(f"judge.{name}.baseline_to = {keys['baseline_to']:g}: not after judge.{name}."
+                             f"baseline_from = {keys['baseline_from']:g} s; allowed: baseline_to > baseline_from "
+                             f"(or 0: no baseline)")
         if keys["column"] not in columns:
             raise SceneError(f"judge.{name}.column = {keys['column']!r}: not a column this scene writes; allowed: one "
                              f"of " + ", ".join(sorted(columns)))
@@ -179,6 +184,12 @@ def judge_scalar(series, keys):
     y = np.asarray(series[keys["column"]], dtype=np.float64)
     start, end = _window(t, keys)
     use = (t >= start) & (t <= end)
+    extra = {}
+    if keys["baseline_to"] > 0.0:
+        before = (t >= keys["baseline_from"]) & (t <= keys["baseline_to"])
+        baseline = float(np.mean(y[before])) if before.any() else float("nan")
+        y = y - baseline
+        extra["baseline"] = baseline
     if keys["kind"] == "frequency":
         covered = (float(t[use][-1] - t[use][0]) if use.sum() > 1 else 0.0) * keys["reference"]
         if covered < MIN_PERIODS:   # part of a swing has crossings of ripples about its own mean
@@ -187,10 +198,10 @@ def judge_scalar(series, keys):
                                                           f"of the reference; at least {MIN_PERIODS:g} are needed"}
         est = measure_frequency(t[use], y[use])
         value = est.frequency
-        extra = {"frequency_uncertainty": est.uncertainty, "periods": est.periods, "method": est.method}
+        extra.update({"frequency_uncertainty": est.uncertainty, "periods": est.periods, "method": est.method})
     else:
         value = float(np.mean(y[use])) if use.any() else float("nan")
-        extra = {"samples": int(use.sum())}
+        extra["samples"] = int(use.sum())
     ref = keys["reference"]
     error = abs(value - ref) / abs(ref) if math.isfinite(value) and ref != 0.0 else None
     out = {"measured": value, "reference": ref, "error_signed": (value - ref) / ref if error is not None else None,

@@ -72,10 +72,12 @@ class FluidPhase:
                         min_iterations=v["fluid.min_iterations"], max_iterations=v["fluid.max_iterations"])
         forced = v["fluid.time_step"]
         if forced > 0.0:
-            limit = self.solver.stable_dt(v["fluid.cfl"], nu=settings["nu"], gravity=settings["gravity"])
+            limit = min(self.solver.stable_dt(v["fluid.cfl"], nu=settings["nu"], gravity=settings["gravity"]),
+                        self._wall_limit(v["fluid.cfl"]))
             if forced > limit:
                 raise SceneError(f"fluid.time_step = {forced:g} s: above the stable limit {limit:.4g} s "
-                                 f"(min of fluid.cfl * h / |v|max, fluid.cfl * sqrt(h / |g|), 0.125 h^2 / nu); "
+                                 f"(min of fluid.cfl * h / |v|max, fluid.cfl * sqrt(h / |g|), 0.125 h^2 / nu, "
+                                 f"fluid.cfl * h / the moving walls' speed); "
                                  f"allowed: (0, {limit:.4g}] s, or 0 for automatic")
         return settings
 
@@ -86,8 +88,18 @@ class FluidPhase:
 
     # ---- the step's size -----------------------------------------------------------------------------------
     def stable_dt(self):
-        """The solver's stable step at fluid.cfl (fluid.solver.FluidSolver.stable_dt)."""
-        return self.solver.stable_dt(self.values["fluid.cfl"])
+        """The solver's stable step at fluid.cfl (fluid.solver.FluidSolver.stable_dt), and no longer than a moving
+        wall takes to cross fluid.cfl h (_wall_limit)."""
+        cfl = self.values["fluid.cfl"]
+        return min(self.solver.stable_dt(cfl), self._wall_limit(cfl))
+
+    def _wall_limit(self, cfl):
+        """cfl h / the moving walls' speed bound (boundary.Boundary.wall_speed; inf where none moves): a wall moves
+        no further into the water in a step than the water moves itself, so the correction pushes it out as it does
+        the water's own compression. The bound holds over the whole run (a commanded wall's is its max_speed), so
+        the step does not follow the wall's speed from step to step."""
+        speed = self.boundary.wall_speed
+        return cfl * self.h / speed if speed > 0.0 else math.inf
 
     def _dt_limit(self, at_time):
         """The largest step now: the stable one, or the forced fluid.time_step while it is below it."""
@@ -223,6 +235,15 @@ class FluidPhase:
             f.vel[self.lost] = 0.0
 
     # ---- read-only views -----------------------------------------------------------------------------------
+    def wrench(self, rows, point):
+        """(force (3,) N, moment (3,) N m about `point`) of the water on the wall rows `rows` (boundary rows), from
+        the last step's pressures (fluid.solver.FluidSolver.wall_forces, each row a group of its own)."""
+        group = np.full(self.boundary.count, -1, dtype=np.int64)
+        group[rows] = np.arange(len(rows))
+        forces = self.solver.wall_forces(group, len(rows))
+        arms = self.boundary.pos[rows] - point
+        return forces.sum(axis=0), np.cross(arms, forces).sum(axis=0)
+
     def kinetic_energy(self):
         f = self.fluid
         return float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())

@@ -245,9 +245,10 @@ def estimated_sites(part, values):
 
 
 def resolve_files(values, scene_file):
-    """Mesh and measurement file paths relative to the scene file made absolute (in place)."""
+    """Mesh, motion table and measurement file paths relative to the scene file made absolute (in place)."""
     base = Path(scene_file).resolve().parent if scene_file and Path(scene_file).is_file() else Path.cwd()
     for key, value in values.items():
-        if key.split(".", 1)[0] in ("parts", "judge") and key.endswith(".file") and isinstance(value, str) \
-                and value and not value.startswith("reference_data:") and not Path(value).is_absolute():
+        if key.split(".", 1)[0] in ("parts", "judge") and key.endswith((".file", ".motion_file")) \
+                and isinstance(value, str) and value and not value.startswith("reference_data:") \
+                and not Path(value).is_absolute():
             values[key] = str(base / value)

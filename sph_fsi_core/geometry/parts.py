@@ -26,6 +26,7 @@ FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
 PROBE_KINDS = ("point", "displacement", "pressure", "water_height", "force")
 AXES = ("x", "y", "z")
 JUDGE_KINDS = ("frequency", "mean", "series")
+MOTIONS = ("none", "linear", "sinusoid", "table", "ros")
 REQUIRED = None    # a Param default meaning "must be given"
 
 
@@ -102,6 +103,55 @@ def _gate(k):
                "above the water's top)", low=0.0, high=1.0e3)]
 
 
+def _motion(k):
+    return [_p(k + "motion", "none", "", "How the wall moves, a rigid body from where it is built (motion.py): 'none', "
+               "'linear' (motion_velocity from motion_start), 'sinusoid' (a translation along motion_axis, or a "
+               "rotation about it through motion_point), 'table' (poses read from motion_file), 'ros' (commanded on "
+               "the node's ~/parts/<name>/pose_cmd or twist_cmd)", kind="str", choices=MOTIONS)]
+
+
+def _motion_linear(k):
+    return [_p(k + "motion_velocity", REQUIRED, "m/s", "The wall's constant velocity", kind="vec3"),
+            _p(k + "motion_start", 0.0, "s", "When it starts moving", low=0.0, high=1.0e4),
+            _p(k + "motion_travel", 0.0, "m", "How far it moves, then stops (0: without end)", low=0.0, high=1.0e3)]
+
+
+def _motion_point(k, what):
+    return _p(k + "motion_point", (0.0, 0.0, 0.0), "m", f"The point {what}", kind="vec3")
+
+
+def _motion_sinusoid(k):
+    return [_p(k + "motion_axis", (1.0, 0.0, 0.0), "", "The translation's direction, or the rotation's axis (any "
+               "length but 0)", kind="vec3"),
+            _p(k + "motion_rotation", False, "", "A rotation about motion_axis through motion_point (amplitude in "
+               "degrees) instead of a translation along it (amplitude in m)", kind="bool"),
+            _p(k + "motion_amplitude", REQUIRED, "m or deg", "A: s(t) = A r(t) (sin(2 pi f t + phase) - sin(phase)), "
+               "the stroke's half", low=-1.0e3, high=1.0e3),
+            _p(k + "motion_frequency", REQUIRED, "Hz", "f", low=0.0, low_inclusive=False, high=1.0e4),
+            _p(k + "motion_phase", 0.0, "deg", "The phase at t = 0 (the wall starts where it is built whatever "
+               "it is)", low=-360.0, high=360.0),
+            _p(k + "motion_ramp", 0.0, "s", "r(t) = (1 - cos(pi t / ramp)) / 2 up to ramp, 1 after (0: none): "
+               "a smooth start from rest", low=0.0, high=1.0e4),
+            _motion_point(k, "the rotation's axis passes through")]
+
+
+def _motion_table(k):
+    return [_p(k + "motion_file", REQUIRED, "", "CSV of poses, relative to the scene file: rows t, x, y, z (m) "
+               "and optionally rx, ry, rz (degrees about x, then y, then z through motion_point), a header row and "
+               "'#' comments allowed; linearly interpolated, held beyond its first and last rows", kind="str"),
+            _motion_point(k, "the table's rotations turn about")]
+
+
+def _motion_ros(k):
+    return [_p(k + "motion_max_speed", REQUIRED, "m/s", "The fastest any of its particles may move: a command "
+               "asking more is refused (and the water's step is kept short enough for it)", low=0.0,
+               low_inclusive=False, high=1.0e3),
+            _p(k + "motion_period", 0.01, "s", "A pose command is reached over this time from the pose the wall has "
+               "when it applies, at a constant velocity (the controller's period)", low=0.0, low_inclusive=False,
+               high=1.0e3),
+            _motion_point(k, "its commanded rotations and angular velocities turn about")]
+
+
 def _solid(k):
     return [_p(k + "clamp_lo", (0.0, 0.0, 0.0), "m", "Low corner of the clamp box: the body's particles inside it "
                "are its clamp (clamp_lo = clamp_hi: none, a free body)", kind="vec3"),
@@ -137,6 +187,18 @@ def _probe_box(k):
                "it follows (a beam's free end: one spacing along the beam, the body's width across)", kind="vec3")]
 
 
+def _probe_rides(k):
+    return [_p(k + "part", "", "", "A moving wall the probe rides on: its position is where it is when the wall is "
+               "built, and it moves with it ('': stays where it is)", kind="str")]
+
+
+def _probe_area(k):
+    return [_p(k + "span_x", 0.0, "m", "With span_y: the mean height over a rectangle span_x by span_y centred on "
+               "position, of vertical lines about a spacing apart (a level's mean, whatever its waves; 0: the line "
+               "through position)", low=0.0, high=1.0e3),
+            _p(k + "span_y", 0.0, "m", "The rectangle's length along y", low=0.0, high=1.0e3)]
+
+
 def _probe_part(k):
     return [_p(k + "part", REQUIRED, "", "The wall, gate or solid part the water pushes", kind="str")]
 
@@ -156,7 +218,11 @@ def _every_judge(k):
 def _judge_reference(k):
     return [_p(k + "reference", REQUIRED, "", "The reference value (Hz for a frequency; the column's unit for a "
                "mean)"),
-            _p(k + "tolerance", 0.0, "1", "Relative error allowed (0: reported, not checked)", low=0.0, high=10.0)]
+            _p(k + "tolerance", 0.0, "1", "Relative error allowed (0: reported, not checked)", low=0.0, high=10.0),
+            _p(k + "baseline_from", 0.0, "s", "With baseline_to: the column judged as its change from its mean over "
+               "[baseline_from, baseline_to] (a level's rise, whatever the probe reads at rest)", low=0.0, high=1.0e3),
+            _p(k + "baseline_to", 0.0, "s", "The baseline's end (0: no baseline, the column as it is)", low=0.0,
+               high=1.0e3)]
 
 
 def _judge_series(k):
@@ -188,21 +254,32 @@ PART_GROUPS = (("every part", ROLES, SHAPES, _every_part),
                ("role water", ("water",), SHAPES, _water),
                ("role wall or gate", ("wall", "gate"), SHAPES, _wall),
                ("role gate", ("gate",), SHAPES, _gate),
+               ("role wall", ("wall",), SHAPES, _motion),
                ("role solid", ("solid",), SHAPES, _solid))
+# a moving wall's keys, by its motion (role wall)
+MOTION_GROUPS = (("wall, motion linear", ("linear",), _motion_linear),
+                 ("wall, motion sinusoid", ("sinusoid",), _motion_sinusoid),
+                 ("wall, motion table", ("table",), _motion_table),
+                 ("wall, motion ros", ("ros",), _motion_ros))
 PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
                 ("kind point, displacement, pressure or water_height", ("point", "displacement", "pressure",
                                                                         "water_height"), _probe_position),
                 ("kind displacement", ("displacement",), _probe_box),
+                ("kind pressure", ("pressure",), _probe_rides),
+                ("kind water_height", ("water_height",), _probe_area),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
                 ("kind frequency or mean", ("frequency", "mean"), _judge_reference),
                 ("kind series", ("series",), _judge_series))
 
 
-def part_params(name, role, shape):
-    """The Params of part `name` with this role and shape."""
+def part_params(name, role, shape, motion="none"):
+    """The Params of part `name` with this role, shape and (a wall's) motion."""
     k = f"parts.{name}."
-    return [p for _, roles, shapes, declare in PART_GROUPS if role in roles and shape in shapes for p in declare(k)]
+    out = [p for _, roles, shapes, declare in PART_GROUPS if role in roles and shape in shapes for p in declare(k)]
+    if role == "wall":
+        out += [p for _, motions, declare in MOTION_GROUPS if motion in motions for p in declare(k)]
+    return out
 
 
 def probe_params(name, kind):
@@ -220,7 +297,7 @@ def reference():
     Params' keys `<list>.<name>.<key>` with `<name>` as written. The one source of `sph-fsi keys`' listing,
     config/defaults.yaml's and the README's table."""
     out = []
-    for which, groups in (("parts", [(g[0], g[3]) for g in PART_GROUPS]),
+    for which, groups in (("parts", [(g[0], g[3]) for g in PART_GROUPS] + [(g[0], g[2]) for g in MOTION_GROUPS]),
                           ("probes", [(g[0], g[2]) for g in PROBE_GROUPS]),
                           ("judge", [(g[0], g[2]) for g in JUDGE_GROUPS])):
         k = f"{which}.<name>."
@@ -300,7 +377,10 @@ def list_params(flat):
     for name in list_entries(flat, "parts", listed=True):
         role = _choice(flat, f"parts.{name}.role", ROLES)
         shape = _choice(flat, f"parts.{name}.shape", SHAPES)
-        out += part_params(name, role, shape)
+        motion = "none"
+        if role == "wall" and f"parts.{name}.motion" in flat:
+            motion = _choice(flat, f"parts.{name}.motion", MOTIONS)
+        out += part_params(name, role, shape, motion)
     for name in list_entries(flat, "probes", listed=True):
         out += probe_params(name, _choice(flat, f"probes.{name}.kind", PROBE_KINDS))
     for name in list_entries(flat, "judge", listed=True):

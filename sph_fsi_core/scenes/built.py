@@ -31,6 +31,8 @@ class Built:
     # or, with a velocity (m/s), a gate lifted from t = 0 at that velocity until it has moved release_travel (m)
     release_velocity: np.ndarray | None = None
     release_travel: float = 0.0
+    # the wall parts that move (motion.py: linear, sinusoid, table, commanded), {part name: Motion}
+    motions: dict = field(default_factory=dict)
     # a geometry scene's parts (scenes/geometry.py): {name: (phase, indices into that phase's particles)}, phase
     # 'fluid', 'walls', 'gate' (release_walls) or 'solid'
     parts: dict = field(default_factory=dict)

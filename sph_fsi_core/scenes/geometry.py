@@ -38,7 +38,9 @@ from ..answers.references import cantilever_mode_velocity
 from ..geometry.fill import (cut_to_period, estimated_sites, moved_sites, part_lattice, parts_of, placed_sites,
                              resolve_files)
 from ..geometry.lattice import Lattice, filled, site_keys
+from ..geometry.part_motion import part_motion
 from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of
+from ..motion import Commanded, Table
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
 from ..probes import ProbeSpec, probe_columns
 from ..errors import plain
@@ -124,6 +126,8 @@ def check(values):
         parse_order(part.key("order"), part.keys["order"])
         if part.role in ("wall", "gate"):
             estimated_sites(part, values)          # checks layers and open faces
+        if part.role == "wall":
+            part_motion(part.name, part.keys)      # checks its motion keys and reads its table
         if part.role == "solid":
             lo, hi = np.asarray(part.keys["clamp_lo"]), np.asarray(part.keys["clamp_hi"])
             if (lo != hi).any() and not (lo < hi).all():
@@ -149,6 +153,12 @@ def check(values):
         if kind in ("pressure", "water_height") and "water" not in roles:
             raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no water part; allowed: a water probe on "
                              f"a scene with water")
+        if kind == "pressure" and keys["part"]:
+            target = by_name.get(keys["part"])
+            allowed = [p.name for p in parts if p.role == "wall" and p.keys.get("motion", "none") != "none"]
+            if target is None or target.role != "wall" or target.keys.get("motion", "none") == "none":
+                raise SceneError(f"probes.{name}.part = {keys['part']!r}: not a moving wall part; allowed: '' (a probe "
+                                 f"that stays)" + "".join(f", {a!r}" for a in allowed))
         if kind == "force":
             target = by_name.get(keys["part"])
             allowed = [p.name for p in parts if p.role in ("wall", "gate", "solid")]
@@ -452,6 +462,9 @@ def build(values):
         for part, pos in fixed:
             index[part.name] = ("walls", np.arange(offset, offset + len(pos)))
             offset += len(pos)
+            motion = part_motion(part.name, part.keys)
+            if motion is not None:
+                built.motions[part.name] = motion
     if released:
         built.release_walls = WallState.lattice(np.concatenate([pos for _, pos in released]), rho0, dp,
                                                 mass_scale=scale)
@@ -591,13 +604,14 @@ def _lift_travel(built, values):
 
 def _domain(values, built):
     """The domain box: geometry.domain_lo .. domain_hi where the scene gives them, else every particle's box (a
-    lifted gate's whole travel included) and `geometry.domain_margin` beyond it (0: a tenth of its largest extent, at
-    least 10 h), along a periodic axis the period from the lattice's origin. Along a periodic axis the box places the
+    lifted gate's whole travel and the moving walls' sweep included: _swept) and `geometry.domain_margin` beyond it
+    (0: a tenth of its largest extent, at least 10 h), along a periodic axis the period from the lattice's origin. Along a periodic axis the box places the
     neighbour lists' cells (numerics/neighbours.cell_grid), so its bits are the run's."""
     pos = [s.pos for s in (built.solid, built.fluid, built.walls, built.release_walls) if s is not None]
     if built.release_velocity is not None:
         travel = built.release_velocity / np.linalg.norm(built.release_velocity) * built.release_travel
         pos.append(built.release_walls.pos + travel)
+    pos += _swept(values, built)
     given_lo, given_hi = np.array(values["geometry.domain_lo"]), np.array(values["geometry.domain_hi"])
     if (given_lo != given_hi).any():
         return given_lo, given_hi
@@ -613,6 +627,25 @@ def _domain(values, built):
         if period > 0.0:
             lo[axis], hi[axis] = origin[axis], origin[axis] + period
     return lo, hi
+
+
+def _swept(values, built):
+    """The corners of each moving wall's box at times through the run (every 1/64 of scene.end_time, and a table's
+    rows): where its motion takes it. A commanded wall's is not known before the run: its built box only."""
+    out = []
+    end = values["scene.end_time"]
+    for name, motion in built.motions.items():
+        if isinstance(motion, Commanded):
+            continue
+        rows = built.parts[name][1]
+        part = built.walls.pos[rows]
+        times = np.linspace(0.0, end, 65)
+        if isinstance(motion, Table):
+            times = np.union1d(times, motion.rows[:, 0])
+        for t in times:
+            at = motion.positions(part, float(t))
+            out.append(np.array([at.min(axis=0), at.max(axis=0)]))
+    return out
 
 
 def _probes(values, built, index):
@@ -639,8 +672,12 @@ def _probes(values, built, index):
         elif kind == "force":
             phase, idx = index[keys["part"]]
             out.append(ProbeSpec(name, kind, phase=phase, indices=idx, part=keys["part"]))
+        elif kind == "water_height":
+            out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64),
+                                 span=(keys["span_x"], keys["span_y"])))
         else:
-            out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64)))
+            out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64),
+                                 part=keys["part"]))
     return out
 
 

@@ -6,6 +6,8 @@ one, has its own module, spheric2.py).
                   from the measured one over T <= 3 (reference_data/martin_moyce_1952_a57mm.csv)
     lobovsky      Lobovsky et al. 2014's 600 mm column, H / dp 30, 60, 90, the scene's defaults (the gate lifted at
                   the measured speed, the water settled behind it): the front against the measured median, T >= 1
+    box_push      a box pushed into water at rest (a wall that moves: parts.box.motion), 10 mm: the level's rise
+                  against the volume it displaces (config/box_pushed_into_tank.yaml)
 
 Each rung runs the scene's defaults but for the spacing (and the tank's step at its finer rung, as the fluid's step
 must shrink with dp there: docs/method.md).
@@ -16,6 +18,7 @@ SECTION = "## The water alone"
 TANK_DEPTH = 0.1                 # m (config/hydrostatic.yaml)
 COLUMN_WIDTH = 0.05715           # m, a (config/dam_break.yaml)
 LOBOVSKY_HEIGHT = 0.6            # m, H (config/lobovsky_dam_break.yaml)
+BOX_RISE = 0.05                  # m, the level's rise (config/box_pushed_into_tank.yaml's geometry.rise)
 
 MEASURES = {
     "tank": ("floor pressure, settled", "rho g H (exact)"),
@@ -23,6 +26,7 @@ MEASURES = {
                                                      "(reference_data/martin_moyce_1952_a57mm.csv)"),
     "lobovsky": ("surge front, RMS over T >= 1", "Lobovsky et al. 2014, median of 100 repeats "
                                                  "(reference_data/lobovsky2014_front_H600.csv)"),
+    "box_push": ("level's rise, a box pushed in", "the volume it displaces (exact)"),
 }
 
 
@@ -39,4 +43,7 @@ def rungs():
                  end_time=0.4, resolution=f"H/dp {n}", quick=n == 30, bound=0.05,
                  note=f"H / dp = {n}; front against Lobovsky et al.")
             for n in (30, 60, 90)]
+    out += [Rung("box_push", "dp_10mm", "box_pushed_into_tank", {"numerics.spacing": 0.01}, end_time=5.0,
+                 resolution=f"rise/dp {round(BOX_RISE / 0.01)}", bound=0.01,
+                 note="dp = 10 mm; the level's mean rise over the last 1.5 s against b (d - z_b) / (L - b)")]
     return out
