@@ -8,6 +8,7 @@ from scipy.spatial import cKDTree
 from sph_fsi_core.scene import builtin_scenes, load_scene
 from sph_fsi_core.scenes import BUILDERS
 from sph_fsi_core.scenes.built import Built, check_layout
+from sph_fsi_core.scenes.tank import bottom_compression
 from sph_fsi_core.schema import SceneError
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.state import FluidState, SolidState, WallState
@@ -56,7 +57,8 @@ def test_every_builtin_scene_is_one_lattice_inside_its_domain(scene):
     """Every particle of every body (the release plates too) has its nearest neighbour (of any body) exactly one
     spacing away, lies inside the domain box, and a periodic axis closes the lattice: each body spans the period less one spacing. The
     layout check passes. Water built compressed (geometry.water_start, tank.compress_column) and the walls beside
-    it are closer along z, by at most the density tolerance."""
+    it are closer along z, by at most the compression the correction holds at the floor (twice the tolerance on the
+    mean)."""
     spec = load_scene(scene)
     dp = spec["numerics.spacing"]
     built = BUILDERS[spec.builder].build(spec.values)
@@ -66,7 +68,7 @@ def test_every_builtin_scene_is_one_lattice_inside_its_domain(scene):
     assert len(pos) > 1000
     nearest, _ = cKDTree(pos).query(pos, k=2)
     if spec.values.get("geometry.water_start") == "compressed":
-        squeezed = dp * (1.0 - spec["fluid.density_tolerance"])
+        squeezed = dp * (1.0 - bottom_compression(spec["fluid.density_tolerance"], spec["fluid.tolerance_on"]))
         assert np.all(nearest[:, 1] >= squeezed * (1.0 - 1e-9)) and np.all(nearest[:, 1] <= dp * (1.0 + 1e-9))
         assert np.sum(nearest[:, 1] < dp * (1.0 - 1e-9)) > len(built.fluid.pos) // 2
     else:

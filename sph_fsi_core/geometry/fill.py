@@ -233,9 +233,12 @@ def estimated_sites(part, values):
     if box is not None:         # a box's shell counted site by site: its layers on each face that is not open
         sites, periodic = box
         opened = [AXES.index(f[1]) for f in open_faces(part)]
-        layered = np.array([0 if axis in periodic else layers * (2 - opened.count(axis)) for axis in range(3)])
         if part.keys["side"] == "outside":
+            layered = np.array([0 if axis in periodic else layers * (2 - opened.count(axis)) for axis in range(3)])
             return int(np.prod(sites + layered) - np.prod(sites))
+        # an obstacle's shell is its shape's, faces across a periodic axis included (a slab under twice its layers
+        # wide is filled through), then cut to the slab
+        layered = np.array([layers * (2 - opened.count(axis)) for axis in range(3)])
         return int(np.prod(sites) - np.prod(np.maximum(sites - layered, 0)))
     area = _area(part)
     if part.keys["side"] == "outside":     # the shell's outer surface is larger than the shape's

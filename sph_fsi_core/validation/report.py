@@ -43,10 +43,17 @@ def measured_against(s):
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
     elif s.get("judges"):
-        measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
-                             if j.get("error") is not None)
-        ref = "measured"
+        first = next(iter(s["judges"].values()))
+        if first.get("kind") in ("mean", "frequency") and first.get("measured") is not None:
+            measured = f"{first['column']} {first['measured']:.4g}"       # a scalar against an exact value
+            ref = f"{first['reference']:.4g}"
+        else:
+            measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
+                                 if j.get("error") is not None)
+            ref = "measured"
     err = f"{100 * s['error']:.2f} %" if s.get("error") is not None else "-"
+    if s.get("judges") and next(iter(s["judges"].values())).get("error_signed") is not None:
+        err = f"{100 * next(iter(s['judges'].values()))['error_signed']:+.2f} %"
     if s.get("error_signed") is not None:
         err = f"{100 * s['error_signed']:+.2f} %"   # the sign says soft (+, deflects more) or stiff
     if s.get("frequency_hz") is not None and s.get("reference_hz") and s.get("error") is not None:
