@@ -6,7 +6,7 @@ layout (little-endian, point_step padded to a multiple of 4), and `msg.data` is 
 `array.array('B', buf.tobytes())`: assigning a NumPy array to `msg.data` directly is ~100x slower.
 
 `~/particles` points: float32 x y z [m], vx vy vz [m/s], pressure [Pa], von_mises [Pa], uint8 phase
-(1 fluid, 2 solid), padded from 33 to 36 bytes. `~/walls` points: float32 x y z [m].
+(1 fluid, 2 solid, 3 a wall that moves), padded from 33 to 36 bytes. `~/walls` points: float32 x y z [m].
 """
 import array
 

@@ -4,7 +4,8 @@ ROS-free (no rclpy, no message packages): shared by the node (sph_fsi.publishing
 (sph_fsi.messages) and the recorders (sph_fsi.recording), which also run from the command line without ROS.
 
 `~/particles` points: float32 x y z [m], vx vy vz [m/s], pressure [Pa], von_mises [Pa], uint8 phase
-(1 fluid, 2 solid), padded from 33 to 36 bytes. `~/walls` points: float32 x y z [m].
+(1 fluid, 2 solid, 3 a wall that moves: its velocity from its motion, pressure and von Mises 0), padded from 33 to
+36 bytes. `~/walls` points: float32 x y z [m], the walls that stay.
 A phase the scene does not have (`sim.fluid` / `sim.solid` / `sim.walls` None or absent) contributes nothing.
 
 Topics (`topic_plan`, names relative to the node, `topic_type`): particles, walls, tip_displacement (a probe named
@@ -33,12 +34,13 @@ import numpy as np
 
 from sph_fsi_core.numerics.tensors import von_mises
 
-__all__ = ["PHASE_FLUID", "PHASE_SOLID", "PHASE_CODES", "PARTICLE_DTYPE", "WALL_DTYPE", "moving_particles",
+__all__ = ["PHASE_FLUID", "PHASE_SOLID", "PHASE_WALL", "PHASE_CODES", "PARTICLE_DTYPE", "WALL_DTYPE", "moving_particles",
            "wall_positions", "particle_points", "pack_particles", "topic_plan", "topic_type", "TOPIC_TYPES",
            "PROBE_QUANTITIES", "QUANTITY_TYPES", "probe_kinds", "probe_topic", "probe_readings", "probe_values"]
 
 PHASE_FLUID = 1
 PHASE_SOLID = 2
+PHASE_WALL = 3          # a wall that moves (parts.<name>.motion): ~/particles, not ~/walls
 PHASE_CODES = {"fluid": PHASE_FLUID, "solid": PHASE_SOLID}
 
 
@@ -78,7 +80,19 @@ def moving_particles(sim):
         m = solid.movable
         velocity = sim.solid_velocity() if hasattr(sim, "solid_velocity") else solid.vel   # stand-ins have vel only
         parts.append((PHASE_SOLID, solid.pos[m], velocity[m], solid.pressure[m], von_mises(solid.stress[m])))
+    rows, velocity = moving_walls(sim)
+    if len(rows):
+        parts.append((PHASE_WALL, sim.boundary.pos[rows], velocity, np.zeros(len(rows)), np.zeros(len(rows))))
     return parts
+
+
+def moving_walls(sim):
+    """(rows of the boundary, velocities) of the walls that move (sph_fsi_core.boundary.Boundary.moving_walls); the
+    boundary's walls block holds the scene's walls in their own order, so the rows index sim.walls too."""
+    boundary = getattr(sim, "boundary", None)
+    if boundary is None or not getattr(boundary, "built_walls", None):
+        return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
+    return boundary.moving_walls()
 
 
 def wall_positions(sim):
@@ -86,7 +100,8 @@ def wall_positions(sim):
     parts = []
     walls = getattr(sim, "walls", None)
     if walls is not None:
-        parts.append(walls.pos)
+        rows, _ = moving_walls(sim)
+        parts.append(np.delete(walls.pos, rows, axis=0) if len(rows) else walls.pos)
     for phase in ("fluid", "solid"):
         state = getattr(sim, phase, None)
         if state is not None:

@@ -46,6 +46,7 @@ class Boundary:
         self.motions = list(motions)
         self.solid = solid
         self.part_motions = dict(part_motions or {})
+        self.built_walls = {}    # {moving wall: (its rows, their positions as built)}
         self.time = 0.0
         self.commands = []       # (stamp, order, name, kind, values, source) waiting for their step (command)
         self.applied = []        # (time applied, name, kind, values, source), in order
@@ -70,6 +71,7 @@ class Boundary:
             if isinstance(motion, Commanded):
                 motion.radius = float(np.sqrt(((built.walls.pos[rows] - motion.point) ** 2).sum(axis=1)).max())
             motions.append((rows.copy(), built.walls.pos[rows].copy(), motion))
+        built_walls = {name: (rows, pos) for (rows, pos, motion), name in zip(motions, built.motions)}
         if gates and built.release_walls is not None:
             first = len(built.walls.pos) if built.walls is not None else 0
             blocks.append(("gate", built.release_walls.pos, built.release_walls.mass))
@@ -79,13 +81,17 @@ class Boundary:
         if solid is not None:
             blocks.append(("solid", solid.pos, solid_mass))
         parts = {name: (phase, idx) for name, (phase, idx) in built.parts.items() if phase != "fluid"}
-        return cls(blocks, parts, rho0, motions, solid, dict(built.motions))
+        boundary = cls(blocks, parts, rho0, motions, solid, dict(built.motions))
+        boundary.built_walls = built_walls
+        return boundary
 
     def without_gates(self):
         """The same boundary with its gates gone (released at t = 0): new arrays, the other blocks as they are."""
         blocks = [(kind, self.pos[rows], self.mass[rows]) for kind, rows in self._blocks.items() if kind != "gate"]
         walls = [m for m in self.motions if m[2] in self.part_motions.values()]     # the walls block stays first
-        return Boundary(blocks, self._parts, self.rho0, walls, self.solid, self.part_motions)
+        boundary = Boundary(blocks, self._parts, self.rho0, walls, self.solid, self.part_motions)
+        boundary.built_walls = self.built_walls
+        return boundary
 
     @property
     def count(self):
@@ -156,6 +162,19 @@ class Boundary:
     def part_motion(self, name):
         """The motion of moving wall `name` (motion.Motion), or None for a part that stays."""
         return self.part_motions.get(name)
+
+    def moving_walls(self, lag=1.0e-6):
+        """(rows, velocities (N, 3) m/s) of the moving walls' particles now (the time of the last move_parts), their
+        velocity from where their motion had them `lag` s before; empty where none moves (the outputs show them
+        as particles that move: sph_fsi.points)."""
+        if not self.built_walls:
+            return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
+        rows, velocities = [], []
+        for name, (part_rows, built) in self.built_walls.items():
+            motion = self.part_motions[name]
+            rows.append(part_rows)
+            velocities.append((motion.positions(built, self.time) - motion.positions(built, self.time - lag)) / lag)
+        return np.concatenate(rows), np.concatenate(velocities)
 
     def part_pose(self, name):
         """(position (3,) m, rotation (3, 3)) of moving wall `name` now: where its motion's point has gone, and how

@@ -153,7 +153,7 @@ def test_a_recorded_runs_commands_replay_to_the_same_bits(tmp_path):
         kind, values = command_values(point, what, numbers)
         sim.boundary.command("paddle", stamp, kind, values, (what, numbers))
     mcap = tmp_path / "run.mcap"
-    rec = Recorder(sim, mcap_path=str(mcap), interval=0.0)
+    rec = Recorder(sim, mcap_path=str(mcap), rrd_path=str(tmp_path / "run.rrd"), interval=0.0)
     for _ in range(3):
         sim.step()
         rec.maybe_record(sim)
@@ -211,3 +211,19 @@ def test_a_box_moved_through_water_and_stopped_gives_it_the_impulse_of_the_walls
             assert gained == pytest.approx(-(impulse["box_force"] + impulse["floor_force"]), rel=0.06), sim.time
             checked += 1
     assert checked == 4 and -impulse["box_force"] > 0.03 and -impulse["floor_force"] < -0.2 * -impulse["box_force"]
+
+
+def test_a_moving_wall_is_shown_among_the_moving_particles(tmp_path):
+    """~/particles (and the recordings) carry a moving wall's particles as phase 3 where they are, at their motion's
+    velocity; ~/walls only the walls that stay."""
+    from sph_fsi.points import PHASE_WALL, particle_points, wall_positions
+    keys = {"motion": "linear", "motion_velocity": [0.0, 0.0, -0.2]}
+    sim = Simulation(load_scene(_scene(tmp_path, keys)))
+    sim.step()
+    rows = sim.boundary.part_rows("paddle")
+    points = particle_points(sim)
+    wall = points[points["phase"] == PHASE_WALL]
+    assert len(wall) == len(rows) and len(points) == sim.fluid.count + len(rows)
+    assert np.array_equal(wall["z"], sim.boundary.pos[rows, 2].astype(np.float32))
+    assert np.allclose(wall["vz"], -0.2, rtol=1e-6) and not wall["vx"].any()
+    assert len(wall_positions(sim)) == sim.walls.count - len(rows)

@@ -11,7 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sph_fsi.points import PHASE_CODES, commanded_parts, part_readings, probe_readings, quaternion, wall_positions
+from sph_fsi.points import (PHASE_CODES, PHASE_WALL, commanded_parts, moving_walls, part_readings, probe_readings,
+                            quaternion, wall_positions)
 from sph_fsi_core.numerics.tensors import von_mises
 
 __all__ = ["Frame", "Static", "Final", "capture", "capture_static", "applied_commands"]
@@ -107,6 +108,9 @@ def capture(sim, row=None, diagnostics=None, commands_from=0):
         vel = vel.copy() if vel is state.vel else vel   # solid_velocity's v + u/2 is already a new array
         raw.append((PHASE_CODES[phase], state.pos.copy(), vel, state.pressure.copy(),
                     None if stress is None else stress.copy(), None if m is None else np.array(m, dtype=bool)))
+    rows, velocity = moving_walls(sim)
+    if len(rows):
+        raw.append((PHASE_WALL, sim.boundary.pos[rows], velocity, np.zeros(len(rows)), None, None))
     probes = probe_readings(sim)
     energies = {k: float(v) for k, v in row.items() if k.endswith("energy")} if row is not None else None
     if not energies:

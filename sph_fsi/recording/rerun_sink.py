@@ -25,7 +25,7 @@ import uuid
 
 import numpy as np
 
-from sph_fsi.points import PHASE_FLUID, PHASE_SOLID
+from sph_fsi.points import PHASE_FLUID, PHASE_SOLID, PHASE_WALL
 
 from .frame import Final, Frame, Static
 
@@ -109,7 +109,7 @@ class RerunSink:
             lines = [f"# {item.scene}", "", "Colours (range in Pa, logged per frame under `legend/<phase>/{min,max}`;",
                      "it only widens: up to the largest 99th percentile seen so far):", ""]
             lines += [f"- `world/{name}`: {what}, colour map {cmap}" for name, cmap, what in _PHASES.values()]
-            lines += ["- `world/walls`: fixed particles (walls, clamp), grey"]
+            lines += ["- `world/walls`: fixed particles (walls, clamp), grey; `world/moving_walls`: walls that move"]
             rec.log("legend", rr.TextDocument("\n".join(lines), media_type=rr.MediaType.MARKDOWN), static=True)
             if len(item.walls):
                 rec.log("world/walls", rr.Points3D(item.walls.astype(np.float32), radii=self._radius,
@@ -121,6 +121,10 @@ class RerunSink:
             return
         assert isinstance(item, Frame)
         for code, pos, _vel, pressure, vm in item.parts:
+            if code == PHASE_WALL:
+                rec.log("world/moving_walls", rr.Points3D(pos.astype(np.float32), radii=self._radius or None,
+                                                          colors=[110, 110, 160]))
+                continue
             name = _PHASES[code][0]
             values = vm if code == PHASE_SOLID else pressure
             low, high = self._ranges[code].update(values)
