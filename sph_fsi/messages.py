@@ -22,8 +22,7 @@ from .points import (PARTICLE_DTYPE, PHASE_FLUID, PHASE_SOLID, WALL_DTYPE,  # la
 
 __all__ = ["PHASE_FLUID", "PHASE_SOLID", "PARTICLE_DTYPE", "WALL_DTYPE", "particle_array", "wall_array",
            "structured_to_cloud", "particles_to_cloud", "walls_to_cloud", "cloud_to_structured",
-           "stamp_from_seconds", "seconds_from_stamp", "probe_message", "part_messages", "pose_command",
-           "twist_command"]
+           "stamp_from_seconds", "seconds_from_stamp", "probe_message", "part_messages"]
 
 # NumPy (kind, itemsize) <-> PointField datatype
 _TO_POINTFIELD = {("i", 1): PointField.INT8, ("u", 1): PointField.UINT8, ("i", 2): PointField.INT16,
@@ -160,16 +159,3 @@ def part_messages(readings, header):
         out.append((part_topic(name, "wrench"), WrenchStamped(header=header, wrench=Wrench(
             force=_vector(r["force"]), torque=_vector(r["moment"])))))
     return out
-
-
-def pose_command(msg):
-    """(stamp s, 'pose_cmd', (position (3,), quaternion (x, y, z, w))) of a pose_cmd message (points.command_values
-    makes the boundary's command of it)."""
-    p, q = msg.pose.position, msg.pose.orientation
-    return seconds_from_stamp(msg.header.stamp), "pose_cmd", ((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
-
-
-def twist_command(msg):
-    """(stamp s, 'twist_cmd', (linear m/s, angular rad/s)) of a twist_cmd message."""
-    v, w = msg.twist.linear, msg.twist.angular
-    return seconds_from_stamp(msg.header.stamp), "twist_cmd", ((v.x, v.y, v.z), (w.x, w.y, w.z))

@@ -90,7 +90,7 @@ def moving_walls(sim):
     """(rows of the boundary, velocities) of the walls that move (sph_fsi_core.boundary.Boundary.moving_walls); the
     boundary's walls block holds the scene's walls in their own order, so the rows index sim.walls too."""
     boundary = getattr(sim, "boundary", None)
-    if boundary is None or not getattr(boundary, "built_walls", None):
+    if boundary is None or not boundary.moving:
         return np.zeros(0, dtype=np.int64), np.zeros((0, 3))
     return boundary.moving_walls()
 
@@ -232,6 +232,17 @@ def rotation_matrix(x, y, z, w):
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
                      [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
                      [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def command_numbers(what, msg):
+    """(stamp s, numbers) of a command message, a live one (rclpy) or one read back from MCAP (mcap_ros2's decoded
+    object: the same fields): a pose_cmd's ((x, y, z), (qx, qy, qz, qw)), a twist_cmd's (linear, angular)."""
+    stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
+    if what == "pose_cmd":
+        p, q = msg.pose.position, msg.pose.orientation
+        return stamp, ((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
+    v, w = msg.twist.linear, msg.twist.angular
+    return stamp, ((v.x, v.y, v.z), (w.x, w.y, w.z))
 
 
 def command_values(point, what, numbers):

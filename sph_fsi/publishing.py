@@ -17,10 +17,9 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import FluidPressure, PointCloud2
 from std_msgs.msg import Float64, Header
 
-from .messages import (part_messages, pose_command, probe_message, stamp_from_seconds, structured_to_cloud,
-                       twist_command, walls_to_cloud)
-from .points import (command_values, commanded_parts, part_readings, particle_points, probe_readings, probe_values,
-                     topic_plan, topic_type, wall_positions)
+from .messages import part_messages, probe_message, stamp_from_seconds, structured_to_cloud, walls_to_cloud
+from .points import (command_numbers, command_values, commanded_parts, part_readings, particle_points,
+                     probe_readings, probe_values, topic_plan, topic_type, wall_positions)
 
 __all__ = ["Publishing", "TOPIC_TYPES", "LEVELS", "topic_class"]
 
@@ -92,7 +91,7 @@ class Publishing:
         part, what = topic.split("/")[1], topic.rsplit("/", 1)[1]
 
         def take(msg):
-            stamp, _, numbers = pose_command(msg) if what == "pose_cmd" else twist_command(msg)
+            stamp, numbers = command_numbers(what, msg)
             try:
                 kind, values = command_values(self._points[part], what, numbers)
             except ValueError as exc:

@@ -311,6 +311,7 @@ class Runner:
                 self._handle(cmd)
             if self._stopping:
                 return
+            self._take_part_commands()       # into the boundary as they come, paused or waiting too
             self._check_end_time()
             if self._can_run():
                 wait = self._realtime_wait()
@@ -335,7 +336,6 @@ class Runner:
         with self._cv:
             if self._paused or self._finished or self._stopped is not None or self._stopping:
                 return False
-        self._take_part_commands()
         return not self.lockstep_waiting()
 
     def _sync_end(self):

@@ -54,7 +54,7 @@ def test_a_lifted_gate_moves_at_its_speed_until_its_travel_then_stays():
     assert b.move_parts(0.1) and np.allclose(b.pos[b.rows("gate")] - start, [0.0, 0.0, 0.2], atol=1e-15)
     assert np.array_equal(b.pos[b.rows("walls")], built.walls.pos)      # the fixed walls stay
     assert b.move_parts(1.0) and np.allclose(b.pos[b.rows("gate")] - start, [0.0, 0.0, 0.5], atol=1e-15)
-    assert not b.move_parts(2.0) and not b.motions                    # parked at its travel: nothing moves
+    assert not b.move_parts(2.0) and b.gate_motion is None           # parked at its travel: nothing moves
     assert np.allclose(b.pos[b.rows("gate")] - start, [0.0, 0.0, 0.5], atol=1e-15)
 
 

@@ -4,6 +4,8 @@ each at the same fluid step and runs to the same bits (sph_fsi_core.boundary.Bou
 messages are decoded from the file's own schemas (mcap_ros2)."""
 import re
 
+from sph_fsi.points import command_numbers, command_values
+
 __all__ = ["read_commands", "check_parts", "queue_commands"]
 
 _COMMAND = re.compile(r".*/parts/([A-Za-z][A-Za-z0-9_]*)/(pose_cmd|twist_cmd)\Z")
@@ -25,13 +27,7 @@ def read_commands(path):
                 if match is None:
                     continue
                 part, what = match.groups()
-                stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
-                if what == "pose_cmd":
-                    p, q = msg.pose.position, msg.pose.orientation
-                    numbers = ((p.x, p.y, p.z), (q.x, q.y, q.z, q.w))
-                else:
-                    v, w = msg.twist.linear, msg.twist.angular
-                    numbers = ((v.x, v.y, v.z), (w.x, w.y, w.z))
+                stamp, numbers = command_numbers(what, msg)
                 out.append((part, stamp, what, numbers))
     except (OSError, McapError) as exc:
         raise ValueError(f"--commands {str(path)!r}: not a readable MCAP recording ({exc}); allowed: a file "
@@ -52,7 +48,6 @@ def check_parts(commands, values, source="--commands"):
 def queue_commands(sim, commands, source="--commands"):
     """Give `commands` (read_commands) to the simulation's boundary, as the node gives a topic's; ValueError naming
     a part that the scene does not drive by commands."""
-    from sph_fsi.points import command_values
     boundary = sim.boundary
     for part, stamp, what, numbers in commands:
         motion = boundary.part_motion(part) if boundary is not None else None

@@ -14,6 +14,7 @@ def measured_against(s):
     """(measured, reference, error) of a run's summary as the report's cells: what the scene's evaluate measured,
     against what, and the error (signed where the sign says soft or stiff)."""
     measured = ref = "-"
+    judge = next(iter(s["judges"].values())) if s.get("judges") else None    # the first judge: the summary's error
     if s.get("frequency_hz") is not None:
         measured = f"{s['frequency_hz']:.3f} ± {s['frequency_uncertainty_hz']:.3f} Hz"
         ref = f"{s['reference_hz']:.3f} Hz ({s['fe3d_source']})"
@@ -42,18 +43,17 @@ def measured_against(s):
     elif s.get("tip_dx_peak_m") is not None:
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
-    elif s.get("judges"):
-        first = next(iter(s["judges"].values()))
-        if first.get("kind") in ("mean", "frequency") and first.get("measured") is not None:
-            measured = f"{first['column']} {first['measured']:.4g}"       # a scalar against an exact value
-            ref = f"{first['reference']:.4g}"
+    elif judge is not None:
+        if judge.get("kind") in ("mean", "frequency") and judge.get("measured") is not None:
+            measured = f"{judge['column']} {judge['measured']:.4g}"       # a scalar against an exact value
+            ref = f"{judge['reference']:.4g}"
         else:
             measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
                                  if j.get("error") is not None)
             ref = "measured"
     err = f"{100 * s['error']:.2f} %" if s.get("error") is not None else "-"
-    if s.get("judges") and next(iter(s["judges"].values())).get("error_signed") is not None:
-        err = f"{100 * next(iter(s['judges'].values()))['error_signed']:+.2f} %"
+    if judge is not None and judge.get("error_signed") is not None:
+        err = f"{100 * judge['error_signed']:+.2f} %"
     if s.get("error_signed") is not None:
         err = f"{100 * s['error_signed']:+.2f} %"   # the sign says soft (+, deflects more) or stiff
     if s.get("frequency_hz") is not None and s.get("reference_hz") and s.get("error") is not None:
