@@ -194,12 +194,18 @@ class RunLog:
     def write(self, out_dir, summary):
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        with open(out / "timeseries.csv", "w", newline="") as fh:
+        # Each file appears whole or not at all (written aside, then renamed): a node's subscriber or a resumed
+        # ladder that sees summary.json reads a complete one.
+        partial = out / "timeseries.csv.partial"
+        with open(partial, "w", newline="") as fh:
             writer = csv.writer(fh)
             writer.writerow(list(self.rows[0]))
             for r in self.rows:
                 writer.writerow([repr(float(v)) for v in r.values()])
-        (out / "summary.json").write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
+        os.replace(partial, out / "timeseries.csv")
+        partial = out / "summary.json.partial"
+        partial.write_text(json.dumps(_finite_or_null(summary), indent=2) + "\n")
+        os.replace(partial, out / "summary.json")
 
 
 def step_counts(sim):
