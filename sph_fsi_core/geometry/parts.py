@@ -187,9 +187,14 @@ def _probe_box(k):
                "it follows (a beam's free end: one spacing along the beam, the body's width across)", kind="vec3")]
 
 
-def _probe_rides(k):
+def _probe_pressure(k):
     return [_p(k + "part", "", "", "A moving wall the probe rides on: its position is where it is when the wall is "
-               "built, and it moves with it ('': stays where it is)", kind="str")]
+               "built, and it moves with it ('': stays where it is)", kind="str"),
+            _p(k + "inset", 0.0, "m", "How far into the water it reads, from position along the wall's normal (about "
+               "1.5 h reads the water beside the wall where its kernel is full; 0: at position)", low=0.0,
+               high=1.0e3),
+            _p(k + "normal", (0.0, 0.0, 0.0), "1", "The wall's normal into the water, for inset ([0, 0, 0]: away from "
+               "the wall particles within 2h of position, their centroid)", kind="vec3")]
 
 
 def _probe_area(k):
@@ -266,7 +271,7 @@ PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
                 ("kind point, displacement, pressure or water_height", ("point", "displacement", "pressure",
                                                                         "water_height"), _probe_position),
                 ("kind displacement", ("displacement",), _probe_box),
-                ("kind pressure", ("pressure",), _probe_rides),
+                ("kind pressure", ("pressure",), _probe_pressure),
                 ("kind water_height", ("water_height",), _probe_area),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
