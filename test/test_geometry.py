@@ -272,7 +272,8 @@ def test_the_probes_of_water_at_rest_read_hydrostatics():
 def test_a_pressure_probe_set_into_the_water_reads_there(tmp_path):
     """A pressure probe with an inset reads that far into the water along the wall's normal, found from the wall
     particles near it (the end wall's +x, the floor's +z; away from their centroid) or given: in the example tank at
-    5 mm, at rest, each reads rho g (H - z) where it reads. A probe in open water has no wall's normal to find: refused by name."""
+    5 mm, at rest, each reads rho g (H - z) where it reads. A probe in open water has no wall's normal to find:
+    refused by name."""
     from sph_fsi_core.run import run_scene
     tree = yaml.safe_load((EXAMPLES / "hydrostatic_geometry.yaml").read_text())
     inset = 1.5 * 1.3 * 0.005
