@@ -8,7 +8,8 @@ A probe has a name, a kind and its time-series columns:
     pressure      `<name>` Pa: the water's pressure at a point on a wall, p = sum_b V_b p_b W(x - x_b) / sum_b V_b W
                   over the water within reach (2h) of the point (Shepard's average; 0 when no water is within
                   reach), each fluid step's averaged over the outer step, weighted by the steps' lengths; a probe on
-                  a moving wall (its `part`) rides with it
+                  a moving wall (its `part`) rides with it; with an `inset` the point is that far into the water along
+                  the wall's normal (scenes/geometry.py places it)
     water_height  `<name>` m: the free surface's height above the probe's position along z: up the vertical line
                   through (x, y) from the position, the first point where the water and the walls stop filling half
                   the kernel, sum_b V_b W(x - x_b) < 1/2 over water and wall particles (the walls count as filled,

@@ -269,6 +269,40 @@ def test_the_probes_of_water_at_rest_read_hydrostatics():
     assert np.abs(series["tank_force_fx"][settled]).max() < 0.01 * weight        # the end walls' pushes cancel
 
 
+def test_a_pressure_probe_set_into_the_water_reads_there(tmp_path):
+    """A pressure probe with an inset reads that far into the water along the wall's normal, found from the wall
+    particles near it (the end wall's +x, the floor's +z; away from their centroid) or given: in the example tank at
+    5 mm, at rest, each reads rho g (H - z) where it reads. A probe in open water has no wall's normal to find:
+    refused by name."""
+    from sph_fsi_core.run import run_scene
+    tree = yaml.safe_load((EXAMPLES / "hydrostatic_geometry.yaml").read_text())
+    inset = 1.5 * 1.3 * 0.005
+    tree["probes"] += [{"name": "wall_in", "kind": "pressure", "position": [0.0, 0.0075, 0.025], "inset": inset},
+                       {"name": "floor_in", "kind": "pressure", "position": [0.025, 0.0075, 0.0], "inset": inset},
+                       {"name": "given", "kind": "pressure", "position": [0.05, 0.0075, 0.05], "inset": inset,
+                        "normal": [-2.0, 0.0, 0.0]}]
+    spec = load_scene(scene_file(tmp_path, tree), ["numerics.spacing=0.005", "geometry.water_start=compressed",
+                                                   "scene.end_time=0.3", "output.snapshot_interval=0"])
+    placed = {p.name: p.position for p in spec.build()[0].probes if p.kind == "pressure"}
+    # found: within 5 degrees of the face's normal (the compressed start's end walls are not symmetric about a probe)
+    for name, at, normal in (("wall_in", [0.0, 0.0075, 0.025], [1.0, 0.0, 0.0]),
+                             ("floor_in", [0.025, 0.0075, 0.0], [0.0, 0.0, 1.0])):
+        step = (placed[name] - at) / inset
+        assert np.linalg.norm(step) == pytest.approx(1.0) and step @ normal > np.cos(np.radians(5.0)), name
+    assert np.allclose(placed["given"], [0.05 - inset, 0.0075, 0.05], atol=1e-12)
+    rows = []
+    run_scene(spec, on_sample=lambda sim, row: rows.append(row))
+    settled = [r for r in rows if r["time"] >= 0.15]
+    rho_g, depth = 1000.0 * 9.81, 0.1
+    for name in ("wall_in", "floor_in", "given"):
+        z = placed[name][2]
+        assert np.mean([r[name] for r in settled]) == pytest.approx(rho_g * (depth - z), rel=0.03), name
+    tree["probes"] = [{"name": "open", "kind": "pressure", "position": [0.025, 0.0075, 0.05], "inset": inset}]
+    del tree["judge"]
+    with pytest.raises(SceneError, match=r"probes\.open\.inset = 0\.00975 m: no wall's face within 2h"):
+        load_scene(scene_file(tmp_path, tree), ["numerics.spacing=0.005"]).build()
+
+
 # ---- anything thrown at the loader builds or is refused by name ------------------------------------------------
 
 def _fuzzed_scenes():
@@ -415,6 +449,24 @@ def test_a_frequency_is_not_judged_on_less_than_a_period():
     out = evaluate_judges({"time": t, "tip_dz": np.sin(2 * np.pi * 17.4 * t)}, values)
     assert out["judges"]["frequency"]["measured"] == pytest.approx(17.4, rel=1e-3)
     assert out["error"] == pytest.approx(0.18 / 17.58, rel=0.05)
+
+
+def test_a_swing_is_the_standard_deviation_over_its_scale():
+    """judge kind swing: a column a + b sin(w t) over whole periods has the standard deviation b / sqrt(2); its error
+    is that over the reference (a scale), with the window's mean, min and max beside it."""
+    from sph_fsi_core.answers.judges import evaluate_judges
+    values = load_scene("hydrostatic", ["numerics.spacing=0.005"]).values
+    t = np.linspace(0.0, 1.0, 4001)
+    wall = 735.0 + 30.0 * np.sin(2 * np.pi * 40.0 * t)
+    out = evaluate_judges({"time": t, "wall_p": wall, "bulk_p": np.full_like(t, 700.0)}, values)
+    swing = out["judges"]["wall_swing"]
+    assert swing["reference"] == pytest.approx(1000.0 * 9.81 * 0.1)           # rho g H, the file's scale
+    assert swing["measured"] == pytest.approx(30.0 / np.sqrt(2.0), rel=2e-3)   # t >= 0.7 s: 12 whole periods
+    assert swing["error"] == pytest.approx(swing["measured"] / 981.0)
+    assert (swing["mean"], swing["min"], swing["max"]) == pytest.approx((735.0, 705.0, 765.0), rel=1e-3)
+    assert out["judges"]["bulk_swing"]["error"] == 0.0
+    assert out["judges"]["bulk_mean"]["error_signed"] == pytest.approx(700.0 / (981.0 * 0.75) - 1.0)
+    assert out["error"] == out["judges"]["wall_swing"]["error"]                # the first judge's
 
 
 # ---- a scene's own parameters, expressions, periodic slabs, clamp holders, numbering ------------------------------

@@ -100,7 +100,7 @@ def test_sph_fsi_keys_lists_the_part_probe_and_judge_keys(capsys):
     rows = {line.split()[0]: line for line in text.splitlines() if not line.startswith("#")}
     assert "shape cylinder" in rows["parts.<name>.length"] and "required" in rows["parts.<name>.length"]
     assert "kind point, displacement, pressure or water_height" in rows["probes.<name>.position"]
-    assert "kind frequency or mean" in rows["judge.<name>.reference"]
+    assert "kind frequency, mean or swing" in rows["judge.<name>.reference"]
 
 
 # ---- refusals: one line naming the file, the part and the key; exit status 2; nothing written ---------------

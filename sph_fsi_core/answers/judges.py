@@ -10,9 +10,13 @@
                `to`. With `average` both series are first averaged over a centred window of that length (a
                measurement sampled at 1 kHz and a simulation's 1 ms samples are both noisy at an impact: the same
                window on both).
+    swing      the column's standard deviation over [from, to] as a fraction of `reference` (a scale in the
+               column's unit, e.g. rho g H for a pressure): how far a value that should hold still swings from
+               sample to sample (with the samples one fluid step apart, from step to step)
 
 Each judge reports its measures, its error (relative: to the reference for a frequency and a mean; for a series the
-RMS over the measured series' range in the window, the RMS itself in the column's unit beside it) and, where the
+RMS over the measured series' range in the window, the RMS itself in the column's unit beside it; for a swing the
+standard deviation over the reference) and, where the
 scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
 A measurement file is a CSV with '#' comment lines and a header row, time (s) in its first column; a path relative to
 the scene file, or `reference_data:<name>` for the package's copies (answers/reference_data, with their sources).
@@ -179,7 +183,7 @@ def judge_series(series, keys):
 
 
 def judge_scalar(series, keys):
-    """A 'frequency' or 'mean' judge's measures."""
+    """A 'frequency', 'mean' or 'swing' judge's measures."""
     t = np.asarray(series["time"], dtype=np.float64)
     y = np.asarray(series[keys["column"]], dtype=np.float64)
     start, end = _window(t, keys)
@@ -199,13 +203,23 @@ def judge_scalar(series, keys):
         est = measure_frequency(t[use], y[use])
         value = est.frequency
         extra.update({"frequency_uncertainty": est.uncertainty, "periods": est.periods, "method": est.method})
+    elif keys["kind"] == "swing":
+        value = float(np.std(y[use])) if use.any() else float("nan")
+        extra.update({"samples": int(use.sum()), "mean": float(np.mean(y[use])) if use.any() else float("nan"),
+                      "min": float(np.min(y[use])) if use.any() else float("nan"),
+                      "max": float(np.max(y[use])) if use.any() else float("nan")})
     else:
         value = float(np.mean(y[use])) if use.any() else float("nan")
         extra["samples"] = int(use.sum())
     ref = keys["reference"]
-    error = abs(value - ref) / abs(ref) if math.isfinite(value) and ref != 0.0 else None
-    out = {"measured": value, "reference": ref, "error_signed": (value - ref) / ref if error is not None else None,
-           "error": error, "from_s": start, "to_s": end, **extra}
+    if keys["kind"] == "swing":   # a spread against a scale: the error is the spread's fraction of it
+        error = value / abs(ref) if math.isfinite(value) and ref != 0.0 else None
+        signed = error
+    else:
+        error = abs(value - ref) / abs(ref) if math.isfinite(value) and ref != 0.0 else None
+        signed = (value - ref) / ref if error is not None else None
+    out = {"measured": value, "reference": ref, "error_signed": signed, "error": error, "from_s": start, "to_s": end,
+           **extra}
     if keys["tolerance"] > 0.0:
         out["tolerance"] = keys["tolerance"]
         out["check_error"] = error is not None and error <= keys["tolerance"]
@@ -225,7 +239,8 @@ def evaluate_judges(series, values):
     if judges:
         first, result = next(iter(judges.items()))
         what = {"frequency": "relative error of the frequency", "mean": "relative error of the mean",
-                "series": "RMS difference from the measured series over its range"}[result["kind"]]
+                "series": "RMS difference from the measured series over its range",
+                "swing": "standard deviation over the reference"}[result["kind"]]
         out["error"] = result.get("error")
         out["error_metric"] = f"{what} of {result['column']} (judge '{first}'" + (
             f", {result['source']})" if result["source"] else ")")

@@ -25,7 +25,7 @@ SHAPES = ("box", "cylinder", "sphere", "mesh")
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
 PROBE_KINDS = ("point", "displacement", "pressure", "water_height", "force")
 AXES = ("x", "y", "z")
-JUDGE_KINDS = ("frequency", "mean", "series")
+JUDGE_KINDS = ("frequency", "mean", "series", "swing")
 MOTIONS = ("none", "linear", "sinusoid", "table", "ros")
 REQUIRED = None    # a Param default meaning "must be given"
 
@@ -187,9 +187,14 @@ def _probe_box(k):
                "it follows (a beam's free end: one spacing along the beam, the body's width across)", kind="vec3")]
 
 
-def _probe_rides(k):
+def _probe_pressure(k):
     return [_p(k + "part", "", "", "A moving wall the probe rides on: its position is where it is when the wall is "
-               "built, and it moves with it ('': stays where it is)", kind="str")]
+               "built, and it moves with it ('': stays where it is)", kind="str"),
+            _p(k + "inset", 0.0, "m", "How far into the water it reads, from position along the wall's normal (about "
+               "1.5 h reads the water beside the wall where its kernel is full; 0: at position)", low=0.0,
+               high=1.0e3),
+            _p(k + "normal", (0.0, 0.0, 0.0), "1", "The wall's normal into the water, for inset ([0, 0, 0]: away from "
+               "the wall particles within 2h of position, their centroid)", kind="vec3")]
 
 
 def _probe_area(k):
@@ -206,7 +211,8 @@ def _probe_part(k):
 def _every_judge(k):
     return [_p(k + "kind", REQUIRED, "", "How a time-series column is judged: 'frequency' (its dominant frequency "
                "against reference), 'mean' (its mean over [from, to] against reference), 'series' (against a "
-               "measured series in a CSV file)", kind="str", choices=JUDGE_KINDS),
+               "measured series in a CSV file), 'swing' (its standard deviation over [from, to] as a fraction of "
+               "reference)", kind="str", choices=JUDGE_KINDS),
             _p(k + "column", REQUIRED, "", "The timeseries.csv column judged (a probe's, e.g. 'tip_dz', 'P1', 'H2')",
                kind="str"),
             _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
@@ -217,7 +223,7 @@ def _every_judge(k):
 
 def _judge_reference(k):
     return [_p(k + "reference", REQUIRED, "", "The reference value (Hz for a frequency; the column's unit for a "
-               "mean)"),
+               "mean, and for a swing the scale it is measured against)"),
             _p(k + "tolerance", 0.0, "1", "Relative error allowed (0: reported, not checked)", low=0.0, high=10.0),
             _p(k + "baseline_from", 0.0, "s", "With baseline_to: the column judged as its change from its mean over "
                "[baseline_from, baseline_to] (a level's rise, whatever the probe reads at rest)", low=0.0, high=1.0e3),
@@ -265,11 +271,11 @@ PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
                 ("kind point, displacement, pressure or water_height", ("point", "displacement", "pressure",
                                                                         "water_height"), _probe_position),
                 ("kind displacement", ("displacement",), _probe_box),
-                ("kind pressure", ("pressure",), _probe_rides),
+                ("kind pressure", ("pressure",), _probe_pressure),
                 ("kind water_height", ("water_height",), _probe_area),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
-                ("kind frequency or mean", ("frequency", "mean"), _judge_reference),
+                ("kind frequency, mean or swing", ("frequency", "mean", "swing"), _judge_reference),
                 ("kind series", ("series",), _judge_series))
 
 

@@ -676,9 +676,29 @@ def _probes(values, built, index):
             out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64),
                                  span=(keys["span_x"], keys["span_y"])))
         else:
-            out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64),
-                                 part=keys["part"]))
+            position = np.asarray(keys["position"], dtype=np.float64)
+            if keys["inset"] > 0.0:
+                position = position + keys["inset"] * _into_water(name, keys, values, built)
+            out.append(ProbeSpec(name, kind, position=position, part=keys["part"]))
     return out
+
+
+def _into_water(name, keys, values, built):
+    """A pressure probe's unit normal into the water: its `normal`, or away from the centroid of the wall
+    particles within 2h of its position (a flat face's: its normal; at a corner, between the faces')."""
+    given = np.asarray(keys["normal"], dtype=np.float64)
+    if np.any(given != 0.0):
+        return given / np.linalg.norm(given)
+    position = np.asarray(keys["position"], dtype=np.float64)
+    reach = SUPPORT_RADIUS_IN_H * values["numerics.smoothing_ratio"] * values["numerics.spacing"]
+    walls = built.walls.pos if built.walls is not None else np.zeros((0, 3))
+    near = walls[((walls - position) ** 2).sum(axis=1) < reach * reach]
+    away = position - near.mean(axis=0) if len(near) else np.zeros(3)
+    if np.linalg.norm(away) < 1e-6 * values["numerics.spacing"]:
+        raise SceneError(f"probes.{name}.inset = {keys['inset']:g} m: no wall's face within 2h = {reach:.4g} m of "
+                         f"position {list(keys['position'])} to set it in from; allowed: a position on a wall's face, "
+                         f"or probes.{name}.normal given")
+    return away / np.linalg.norm(away)
 
 
 def evaluate(series, values):

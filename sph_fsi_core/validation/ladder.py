@@ -15,6 +15,7 @@ from pathlib import Path
 from . import DEFAULT_OUT_DIR
 from .cases import CASE_GROUPS, all_rungs
 from .cases.cantilever import cantilever_end_time
+from .rung import rung_error
 from .tasks import map_runs
 
 
@@ -33,7 +34,7 @@ def run_rung(args):
     spec = load_scene(rung.scene, list(overrides.items()))
     t0 = time.perf_counter()
     summary = run_scene(spec, rung_dir(out_dir, rung), progress=False)
-    print(f"  {rung.key}: error {summary.get('error')}, wall {time.perf_counter() - t0:.1f} s, "
+    print(f"  {rung.key}: error {rung_error(rung, summary)}, wall {time.perf_counter() - t0:.1f} s, "
           f"stable {summary['stable']}", flush=True)
     return summary
 
@@ -107,8 +108,8 @@ def main(cases=(), quick=False, workers=1, out_dir=DEFAULT_OUT_DIR, report_only=
             failed.append(f"{r.key}: not run (no summary.json in {rung_dir(out_dir, r)})")
         elif not s["stable"]:
             failed.append(f"{r.key}: did not finish stably")
-        elif r.bound is not None and quick and (s.get("error") is None or s["error"] > r.bound):
-            failed.append(f"{r.key}: error {s.get('error')} above the bound {r.bound}")
+        elif r.bound is not None and quick and (rung_error(r, s) is None or rung_error(r, s) > r.bound):
+            failed.append(f"{r.key}: error {rung_error(r, s)} above the bound {r.bound}")
     for line in failed:
         print(f"sph-fsi validate: FAILED {line}", file=sys.stderr)
     return 1 if failed else 0

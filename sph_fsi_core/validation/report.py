@@ -8,11 +8,15 @@ from pathlib import Path
 
 from . import cases
 from .report_tools import fmt
+from .rung import rung_error
 
 
-def measured_against(s):
+def measured_against(s, judge=""):
     """(measured, reference, error) of a run's summary as the report's cells: what the scene's evaluate measured,
-    against what, and the error (signed where the sign says soft or stiff)."""
+    against what, and the error (signed where the sign says soft or stiff); with `judge` (a rung's Rung.judge),
+    that judge's."""
+    if judge:
+        return _judge_cells(s["judges"][judge])
     measured = ref = "-"
     judge = next(iter(s["judges"].values())) if s.get("judges") else None    # the first judge: the summary's error
     if s.get("frequency_hz") is not None:
@@ -61,6 +65,17 @@ def measured_against(s):
     return measured, ref, err
 
 
+def _judge_cells(j):
+    """A scalar judge's cells: a swing as its spread (and mean) against its scale, a mean or frequency against its
+    exact value."""
+    if j.get("measured") is None:
+        return "-", f"{j['reference']:.4g}", "-"
+    if j["kind"] == "swing":
+        return (f"{j['column']} swing {j['measured']:.4g} (mean {j['mean']:.4g})", f"scale {j['reference']:.4g}",
+                f"{100 * j['error']:.2f} %")
+    return f"{j['column']} {j['measured']:.4g}", f"{j['reference']:.4g}", f"{100 * j['error_signed']:+.2f} %"
+
+
 def _stable(s):
     d = s["diverged"]
     return "yes" if s["stable"] else f"no: {d['check']} at {d['time']:.4g} s"
@@ -77,7 +92,7 @@ def _row(rung, s):
     if s is None:
         return f"| {rung.case} | {rung.label} | not run | | | | | | | | | |"
     stable = _stable(s)
-    measured, ref, err = measured_against(s)
+    measured, ref, err = measured_against(s, rung.judge)
     m = s.get("machine", {})
     moving, steps = _cost(s)
     return (f"| {rung.case} | {rung.label} | {s['settings']['numerics.spacing'] * 1e3:.3g} | "
@@ -91,8 +106,8 @@ def _plots(out_dir, rungs, summaries):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     # Error against wall time, one series per case (the Pareto view).
-    series = {case: [(summaries[r.key]["wall_time_s"], summaries[r.key]["error"], r.label) for r in rungs
-                     if r.case == case and r.key in summaries and summaries[r.key].get("error")]
+    series = {case: [(summaries[r.key]["wall_time_s"], rung_error(r, summaries[r.key]), r.label) for r in rungs
+                     if r.case == case and r.key in summaries and rung_error(r, summaries[r.key])]
               for case in sorted({r.case for r in rungs})}
     made = [error_figure(plt, Path(out_dir) / "error_vs_walltime.png", series, "Error against run time",
                          "wall time on this machine [s]", "relative error against the reference")]
@@ -206,8 +221,8 @@ def _case_error(rung, s, summaries):
         found = derived(rung, summaries) if derived else None
         if found is not None:
             return found[0], f"{100 * found[0]:.2f} % (against {found[1]})"
-    _, _, cell = measured_against(s)
-    return s.get("error"), cell
+    _, _, cell = measured_against(s, rung.judge)
+    return rung_error(rung, s), cell
 
 
 def _measures(case_name):
@@ -232,7 +247,7 @@ def _headline(rungs, summaries):
         if s is None:
             lines.append(f"| {name} | {what} | {against} | {run} | not run yet | | | | | | | | |")
             continue
-        measured, ref, _ = measured_against(s)
+        measured, ref, _ = measured_against(s, r.judge)
         _, err = _case_error(r, s, summaries)
         if not s["stable"]:
             err = f"{err}; unstable: {_stable(s)}"

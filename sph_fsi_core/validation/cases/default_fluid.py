@@ -2,6 +2,8 @@
 one, has its own module, spheric2.py).
 
     tank          water at rest in a tank, H / dp 20 and 40: the floor pressure against rho g H
+    rest_pressure the same tank stepped at 0.5 ms, the step a coupled run takes (one sample per fluid step): the
+                  end-wall probe's swing from step to step over rho g H, its mean against rho g (H - z) beside
     martin_moyce  Martin & Moyce's collapsing column, a / dp 10, 20, 30: the surge front's RMS relative difference
                   from the measured one over T <= 3 (reference_data/martin_moyce_1952_a57mm.csv)
     lobovsky      Lobovsky et al. 2014's 600 mm column, H / dp 30, 60, 90, the scene's defaults (the gate lifted at
@@ -19,9 +21,13 @@ TANK_DEPTH = 0.1                 # m (config/hydrostatic.yaml)
 COLUMN_WIDTH = 0.05715           # m, a (config/dam_break.yaml)
 LOBOVSKY_HEIGHT = 0.6            # m, H (config/lobovsky_dam_break.yaml)
 BOX_RISE = 0.05                  # m, the level's rise (config/box_pushed_into_tank.yaml's geometry.rise)
+# s: the water at rest stepped as in a coupled run (the coupled rungs' fluid steps: Antoci's gate 0.11-0.2 ms, the
+# paper's 0.25 ms, Antoci's gate at rest 1 ms), where gravity's g dt^2 per step is well inside the tolerance
+REST_STEP = 0.0005
 
 MEASURES = {
     "tank": ("floor pressure, settled", "rho g H (exact)"),
+    "rest_pressure": ("end-wall pressure's swing from fluid step to fluid step, settled", "rho g H (its scale)"),
     "martin_moyce": ("surge front, RMS over T <= 3", "Martin & Moyce 1952 "
                                                      "(reference_data/martin_moyce_1952_a57mm.csv)"),
     "lobovsky": ("surge front, RMS over T >= 1", "Lobovsky et al. 2014, median of 100 repeats "
@@ -35,6 +41,11 @@ def rungs():
                 end_time=0.6, resolution=f"H/dp {round(TANK_DEPTH / dp)}", quick=not extra, bound=0.02,
                 note=f"dp = {dp * 1e3:g} mm; floor pressure against rho g H")
            for dp, extra in ((0.005, {}), (0.0025, {"fluid.time_step": 0.0025}))]
+    out += [Rung("rest_pressure", f"H_over_dp_{round(TANK_DEPTH / dp)}", "hydrostatic",
+                 {"numerics.spacing": dp, "fluid.time_step": REST_STEP, "output.timeseries_interval": REST_STEP},
+                 end_time=1.0, resolution=f"H/dp {round(TANK_DEPTH / dp)}", judge="wall_swing",
+                 note=f"dp = {dp * 1e3:g} mm, a fluid step of {REST_STEP * 1e3:g} ms; the end-wall probe's swing")
+            for dp in (0.005, 0.0025)]
     out += [Rung("martin_moyce", f"a_over_dp_{n}", "dam_break", {"numerics.spacing": COLUMN_WIDTH / n},
                  end_time=0.17, resolution=f"a/dp {n}", quick=n == 10, bound=0.15,
                  note=f"a / dp = {n}; front against Martin & Moyce")
