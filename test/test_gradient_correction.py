@@ -151,6 +151,7 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
     """Pair forces are equal and opposite (sum m a = 0), and their power equals minus the stress power
     sum_a V_a sigma_a : L_a of the same gradient: the discrete system stores exactly the work it receives."""
     from sph_fsi_core.solid.fitted_gradient import momentum_rate_mls, xsph_velocity_and_mls_gradient
+    from sph_fsi_core.solid.stepper import driver_variant
     pos, dp, h = _beam_cloud(jitter=0.05, seed=3)
     mass, rho, nl, w, f, rows, order, weights = _mls_setup(pos, h)
     n = len(pos)
@@ -164,7 +165,8 @@ def test_quadratic_fit_force_conserves_momentum_and_pairs_with_the_stress_power(
                                velocity_gradient="quadratic")
     momentum_rate_mls(state, lists, prm, solid_bundles.buffers(n, nl.pairs, w=w, f=f, mls_rows=rows,
                                                                mls_weights=refreshed,
-                                                               sigma_over_rho2=sigma / rho[:, None] ** 2), np.zeros(3))
+                                                               sigma_over_rho2=sigma / rho[:, None] ** 2), np.zeros(3),
+                      driver_variant(prm))
     # the force pass leaves the same pair weights in its cache as the post-build pass computes
     assert np.abs(refreshed - weights).max() < 1e-12 * np.abs(weights).max()
     total = (mass[:, None] * acc).sum(axis=0)

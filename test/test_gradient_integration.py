@@ -12,6 +12,7 @@ from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.solid.gradient_integration import gradient_force_rows, gradient_strain_energy, velocity_hessian
 from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls, pair_variant
 from sph_fsi_core.numerics.tensors import SYM_INDEX
+from sph_fsi_core.solid.stepper import driver_variant
 import solid_bundles
 
 
@@ -70,10 +71,10 @@ def test_gradient_force_conserves_momentum_and_pairs_with_the_gradient_stress_po
     # the momentum pass with no stress and no viscosity: the stress gradient's force alone
     prm = solid_bundles.params(h, 1e-3, sound_speed=1.0, alpha=0.0, beta=0.0, inv_w_dp=1.0,
                                velocity_gradient="quadratic", nodal_integration="gradient")
-    assert prm.pair_variant == pair_variant(True, 0)
+    assert driver_variant(prm) == pair_variant(True, 0)
     momentum_rate_mls(solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl), prm,
                       solid_bundles.buffers(n, nl.pairs, hessian_rows=True, mls_rows=rows, w=w,
-                                            force_rows=force_rows), np.zeros(3))
+                                            force_rows=force_rows), np.zeros(3), driver_variant(prm))
     force = mass[:, None] * acc
     assert np.abs(force.sum(axis=0)).max() < 1e-12 * np.abs(force).sum()
     hessian = _hessian(pos, h, mass, rho, nl, rows, w, vel)
@@ -95,13 +96,13 @@ def test_momentum_pass_refuses_a_pair_variant_that_does_not_match_its_force_rows
     pos, h, mass, rho, nl, rows, w = _jittered_bar(seed=9)
     n = len(pos)
     prm = solid_bundles.params(h, 1e-3, sound_speed=1.0, alpha=0.0, beta=0.0, inv_w_dp=1.0,
-                               velocity_gradient="quadratic", pair_variant=pair_variant(False, 0))
+                               velocity_gradient="quadratic")
     work = solid_bundles.buffers(n, nl.pairs, hessian_rows=True, mls_rows=rows, w=w)
     assert work.force_rows.shape == (n, 3, 9)
     assert pair_variant(True, 0) == () and pair_variant(True, 4) == (0,) and pair_variant(False, 3) == (0,) * 5
     with pytest.raises(ValueError, match="pair variant"):
         momentum_rate_mls(solid_bundles.state(pos, np.zeros((n, 3)), rho, mass), solid_bundles.neighbours(nl), prm,
-                          work, np.zeros(3))
+                          work, np.zeros(3), pair_variant(False, 0))
 
 
 def test_gradient_energy_of_a_bent_lattice_beam_makes_up_the_missing_second_moment():

@@ -22,6 +22,7 @@ from sph_fsi_core.schema import MAX_ART_EXPONENT
 from sph_fsi_core.solid.gray2001 import continuity_rate, integer_power, momentum_rate, xsph_velocity_and_gradient
 from sph_fsi_core.solid.fitted_gradient import MOMENT_COUNT, N_BASIS, mls_fit_rows, momentum_rate_mls, pair_variant
 from sph_fsi_core.numerics.tensors import SYM_INDEX
+from sph_fsi_core.solid.stepper import driver_variant
 
 DP = 1e-3
 H = 1.6e-3                          # a wide kernel, so that the first rows of the half list exceed one block
@@ -294,11 +295,11 @@ def test_quadratic_fit_momentum_pass_equals_its_pair_forces_summed_over_every_pa
     prm = solid_bundles.params(H, DP, sound_speed=c0, alpha=alpha, beta=beta, art_exponent=exponent,
                                inv_w_dp=1.0 / w_dp, velocity_gradient="quadratic",
                                nodal_integration="gradient" if gradient else "plain")
-    assert prm.pair_variant == pair_variant(gradient, exponent)
+    assert driver_variant(prm) == pair_variant(gradient, exponent)
     work = solid_bundles.buffers(n, nl.pairs, CHUNKS, hessian_rows=gradient, sigma_over_rho2=sor2, art_stress=art,
                                  mls_rows=rows, mls_weights=weights, force_rows=force_rows)
     momentum_rate_mls(solid_bundles.state(pos, vel, rho, mass, acc=acc), solid_bundles.neighbours(nl, PERIOD), prm,
-                      work, np.zeros(3))
+                      work, np.zeros(3), driver_variant(prm))
     d = _separations(pos, pos)                                            # r_a - r_b
     r, wk, fk = _kernel_pairs(d)
     inside = (r < 2 * H) & (r > 0.0)

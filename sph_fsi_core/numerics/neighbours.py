@@ -440,19 +440,6 @@ def _scan_into_chunks(targets, grid, tcell, period, xz_periodic, cutoff, half, n
         used[c] = slot
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _fill_rows(targets, grid, tcell, period, xz_periodic, cutoff, half, near, scanned, start, index):
-    """The same scan writing each row into index[start[a]:start[a + 1]] (after a chunk buffer overflowed)."""
-    n = targets.shape[0]
-    cutoff2 = cutoff * cutoff
-    half_period = 0.5 * period
-    for a in prange(n):
-        if scanned.shape[0] > 0 and not scanned[a]:
-            continue
-        _scan_row(a, targets, grid, tcell, period, xz_periodic, half_period, cutoff2, half, near,
-                  _stencil_scratch(), index, start[a], start[a + 1])
-
-
 _ALL_TARGETS = np.zeros(0, dtype=np.bool_)   # `scanned` meaning every target
 
 
@@ -482,8 +469,8 @@ class NeighbourList:
 
     The build scans the candidates once (_scan_into_chunks). Each thread's rows go to a buffer sized from the
     previous build (a quarter more than its largest chunk, at least PAIRS_PER_TARGET_GUESS per target on the first
-    build) and are copied into place; a chunk that overflows its buffer costs one more scan (_fill_rows), with the
-    exact row lengths the first one counted.
+    build) and are copied into place; a chunk that overflows its buffer costs one more scan into buffers sized from
+    the row lengths the first one counted.
 
     The source grid of the last build is kept (`grid`): another list over the same sources at the same moment
     can scan it (`build(..., grid=...)`). With `keep_grid_while_sources_stay`, a build whose sources are where
@@ -561,16 +548,17 @@ class NeighbourList:
         scanned = _ALL_TARGETS if scanned is None else scanned
         _scan_into_chunks(targets, g, tcell, self.period, self.xz_periodic, self.cutoff, self.half, self.near,
                           scanned, start, crossing, self._buffers, used)
+        if used.max() > self._buffers.shape[1]:
+            # the same scan again into buffers that hold the rows the first one counted: no other compiled scan
+            self.overflows += 1
+            self._buffers = np.empty((chunks, int(1.25 * used.max()) + 64), dtype=INDEX_DTYPE)
+            _scan_into_chunks(targets, g, tcell, self.period, self.xz_periodic, self.cutoff, self.half, self.near,
+                              scanned, start, crossing, self._buffers, used)
         np.cumsum(start, out=start)
         index = np.empty(start[-1], dtype=INDEX_DTYPE)
-        if used.max() <= self._buffers.shape[1]:
-            for c in range(chunks):
-                first = start[(n * c) // chunks]
-                index[first:first + used[c]] = self._buffers[c, :used[c]]
-        else:
-            self.overflows += 1
-            _fill_rows(targets, g, tcell, self.period, self.xz_periodic, self.cutoff, self.half, self.near, scanned,
-                       start, index)
+        for c in range(chunks):
+            first = start[(n * c) // chunks]
+            index[first:first + used[c]] = self._buffers[c, :used[c]]
         wanted = int(1.25 * used.max()) + 64
         if wanted > self._buffers.shape[1] or 2 * wanted < self._buffers.shape[1]:
             self._buffers = np.empty((chunks, wanted), dtype=INDEX_DTYPE)

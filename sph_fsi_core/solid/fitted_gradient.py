@@ -523,7 +523,7 @@ def _scatter_mls_block(block, a, lo, m, state, index, work, va, inv_h, support2,
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def momentum_rate_mls(state, neighbours, prm, work, body_acc):
+def momentum_rate_mls(state, neighbours, prm, work, body_acc, variant):
     """Eq. (5) with the stress acting through the fitted gradient weights (the force paired with L_a above), into
     state.acc (body_acc added).
 
@@ -541,8 +541,8 @@ def momentum_rate_mls(state, neighbours, prm, work, body_acc):
     In blocks (pair_blocks.py; work.blocks: per-chunk scratch of MOMENTUM_BLOCK_COLUMNS columns): what needs only
     particle a's rows and stress runs in SIMD lanes (_mls_pair_block); b's weights G_ba, its stress part and its
     half of the gradient force, which need b's 27 fit numbers (27 more with the gradient integration), per pair in
-    the scatter loop, where they are read in place. prm.pair_variant: pair_variant(gradient integration on,
-    art_exponent), the setting as a type. Arguments as in xsph_velocity_and_mls_gradient.
+    the scatter loop, where they are read in place. `variant`: pair_variant(gradient integration on,
+    art_exponent), the setting as a type (stepper.driver_variant). Arguments as in xsph_velocity_and_mls_gradient.
     """
     mass = state.mass
     rho = state.rho
@@ -557,7 +557,6 @@ def momentum_rate_mls(state, neighbours, prm, work, body_acc):
     index = neighbours.index
     h = prm.h
     art_exponent = prm.art_exponent
-    variant = prm.pair_variant
     terms = pair_terms(prm)
     inv_h = terms.inv_h
     support2 = support_squared(h)

@@ -23,8 +23,8 @@ from .fitted_gradient import MOMENT_COUNT, mls_fit_rows, mls_pair_weights
 from .gradient_integration import gradient_strain_energy
 from .gray2001 import material_constants, strain_energy
 from .implicit_pressure import IMPULSE_ROW as PRESSURE_IMPULSE, deviatoric_wave_speed
-from .stepper import (SolidArrays, SolidNeighbours, SolidWork, make_params, mirror_clamp_velocities,
-                      solid_acceleration, solid_drivers)
+from .stepper import (SolidArrays, SolidNeighbours, SolidWork, driver_variant, make_params,
+                      mirror_clamp_velocities, solid_acceleration, solid_drivers)
 
 NO_EXTERNAL = np.zeros((0, 3))
 NO_MIRROR = np.zeros(0, dtype=np.int64)
@@ -183,7 +183,7 @@ class SolidSolver:
         """The arguments of the scheme's driver (solid_drivers(params)[0]) for `n` steps of `dt`, as they are now (a
         rebuild or refit replaces the list's arrays and the pair cache)."""
         return (n, force_first, dt, SolidArrays.of(self.solid), SolidNeighbours.of(self.neighbours, self.period),
-                self.params, self.work.buffers(), ext_acc, self.clamp_mirror)
+                self.params, self.work.buffers(), ext_acc, self.clamp_mirror, driver_variant(self.params))
 
     def advance(self, n, dt, ext_acc=NO_EXTERNAL):
         """`n` leapfrog steps of `dt` holding the external push `ext_acc` ((N, 3) m/s^2, or NO_EXTERNAL). Returns

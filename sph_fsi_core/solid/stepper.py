@@ -81,7 +81,6 @@ class SolidParams(NamedTuple):
     fit_refresh_strain: float   # with it: remake the rows once some neighbourhood's Green strain since passes this
     pressure_tolerance: float       # its conjugate gradients' relative residual
     pressure_max_iterations: int    # and their cap per step
-    pair_variant: tuple             # the quadratic fit's momentum pass setting as a type (fitted_gradient.pair_variant)
 
 
 def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, art_eps, art_exponent, gravity,
@@ -100,9 +99,17 @@ def make_params(h, spacing, density, c0, shear_modulus, xsph_eps, alpha, beta, a
                        implicit_pressure=pressure == "implicit", rotate_fit=fit_refresh == "rotate",
                        fit_refresh_strain=fit_refresh_strain,
                        pressure_tolerance=pressure_tolerance,
-                       pressure_max_iterations=int(pressure_max_iterations),
-                       pair_variant=pair_variant(nodal_integration == "gradient",
-                                                 int(art_exponent) if art_eps > 0.0 else 0))
+                       pressure_max_iterations=int(pressure_max_iterations))
+
+
+def driver_variant(prm):
+    """The drivers' last argument: the quadratic fit's momentum pass setting as a type (fitted_gradient.pair_variant
+    of prm's gradient integration and artificial stress), () for Gray's scheme, whose passes take none. An argument
+    of its own, not a field of SolidParams: every pass that takes prm compiled once per setting with it (the
+    velocity Hessian's 16-41 s, Gray's passes too), where only the momentum pass's block kernel differs."""
+    if prm.gradient_order != 2:
+        return ()
+    return pair_variant(prm.cell_moment > 0.0, prm.art_exponent)
 
 
 # The passes take these bundles and read their arrays one per line (`pos = state.pos`), never as a tuple
@@ -296,14 +303,14 @@ def _finish_acceleration(acc, mass, movable, body, ext_acc, clamp_mirror):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
+def fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror, variant):
     """Eq. (5) (Satake et al.; Gray, Monaghan & Swift 2001) into state.acc (zero for clamp particles) with the
     quadratic fit's pair weights (solid.velocity_gradient = quadratic, solid/fitted_gradient.py), refreshing the pair
     cache at the current positions.
 
     `state`: SolidArrays, `neighbours`: SolidNeighbours, `prm`: SolidParams, `work`: SolidBuffers; `ext_acc`
     (N, 3) m/s^2 added to movable particles (the fluid's push), or (0, 3) for none; `clamp_mirror` (N,) int64,
-    the ghost clamp's mirror images (solid.clamp = mirrored), or empty.
+    the ghost clamp's mirror images (solid.clamp = mirrored), or empty; `variant`: driver_variant(prm).
     """
     rho, stress, mass, movable = state.rho, state.stress, state.mass, state.movable
     sigma_over_rho2 = work.sigma_over_rho2
@@ -314,14 +321,14 @@ def fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
     body = np.array([prm.gx, prm.gy, prm.gz])
     if prm.cell_moment > 0.0:
         gradient_force_rows(mass, rho, state.stress_gradient, prm.cell_moment, work.mls_rows, work.force_rows)
-    momentum_rate_mls(state, neighbours, prm, work, body)
+    momentum_rate_mls(state, neighbours, prm, work, body, variant)
     _finish_acceleration(state.acc, mass, movable, body, ext_acc, clamp_mirror)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
+def sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror, variant):
     """Eq. (5) as fitted_acceleration, with Gray's SPH gradient (solid.velocity_gradient = sph, the paper's) or its
-    kernel-corrected form (linear): solid/gray2001.py."""
+    kernel-corrected form (linear): solid/gray2001.py; `variant` () (driver_variant)."""
     stress_terms(state.stress, state.rho, prm.rho0, prm.c0 * prm.c0, prm.art_eps, state.pressure,
                  work.sigma_over_rho2, work.art_stress, work.eig_work)
     body = np.array([prm.gx, prm.gy, prm.gz])
@@ -331,7 +338,7 @@ def sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
 
 def solid_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror):
     """Eq. (5) into state.acc with the scheme's momentum pass (the driver of `solid_drivers`)."""
-    solid_drivers(prm)[1](state, neighbours, prm, work, ext_acc, clamp_mirror)
+    solid_drivers(prm)[1](state, neighbours, prm, work, ext_acc, clamp_mirror, driver_variant(prm))
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -420,15 +427,15 @@ def _fit_refresh_due(dt, prm, work):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror):
+def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror, variant):
     """Advance up to `n_steps` leapfrog steps of the module docstring (Satake et al. eqs. (3)-(5), the solid of
     Gray, Monaghan & Swift 2001) with the quadratic fit's velocity gradient (solid.velocity_gradient = quadratic);
     returns the number done (fewer: the neighbour list needs a rebuild, or the fit's rows a remake).
 
     `state`: SolidArrays, advanced in place; `neighbours`: SolidNeighbours; `prm`: SolidParams; `work`:
-    SolidBuffers; `ext_acc`, `clamp_mirror`: as fitted_acceleration's. `force_first`: take the first step even if
-    the skin test fails (used right after a rebuild, when a particle faster than half the skin per step would
-    otherwise stall the run; the watchdog's speed limit catches those). Also returns early, with
+    SolidBuffers; `ext_acc`, `clamp_mirror`, `variant`: as fitted_acceleration's. `force_first`: take the first step
+    even if the skin test fails (used right after a rebuild, when a particle faster than half the skin per step
+    would otherwise stall the run; the watchdog's speed limit catches those). Also returns early, with
     work.fit_refresh[0] = 1, once some particle's neighbourhood has turned or strained by prm.fit_refresh_turn
     (the integral of |L| dt) since the quadratic fit's rows were made: the rows belong to the positions they were
     made at, and a stale fit leaks the linear part of the motion into the fitted curvature.
@@ -453,7 +460,7 @@ def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_
             stress_gradient_rate(work.hessian, grad_v, stress, state.stress_gradient, prm.shear_modulus,
                                  prm.gradient_bulk_modulus, work.dstress_gradient)
         _advance_state(dt, state, work, prm, clamp_mirror)
-        fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
+        fitted_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror, variant)
         _half_kick(dt, vel, acc, movable, clamp_mirror)
         if _fit_refresh_due(dt, prm, work):
             work.fit_refresh[0] = 1
@@ -462,9 +469,10 @@ def fitted_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def sph_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror):
+def sph_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc, clamp_mirror, variant):
     """fitted_leapfrog's steps with Gray's SPH velocity gradient (solid.velocity_gradient = sph, the paper's) or its
-    kernel-corrected form (linear): solid/gray2001.py. Returns the number of steps done."""
+    kernel-corrected form (linear): solid/gray2001.py. Returns the number of steps done; `variant` is () (its passes
+    take none: driver_variant)."""
     pos, vel, rho, stress, mass, movable = state.pos, state.vel, state.rho, state.stress, state.mass, state.movable
     acc = state.acc
     grad_v = work.grad_v
@@ -481,7 +489,7 @@ def sph_leapfrog(n_steps, force_first, dt, state, neighbours, prm, work, ext_acc
             velocity_divergence_rate(rho, grad_v, work.drho)
         jaumann_stress_rate(grad_v, stress, prm.shear_modulus, work.dstress)
         _advance_state(dt, state, work, prm, clamp_mirror)
-        sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror)
+        sph_acceleration(state, neighbours, prm, work, ext_acc, clamp_mirror, variant)
         _half_kick(dt, vel, acc, movable, clamp_mirror)
     return n_steps
 
