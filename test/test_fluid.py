@@ -311,7 +311,8 @@ def test_the_pressure_at_rest_comes_in_pulses_unless_the_correction_holds_the_me
     from sph_fsi_core.run import run_scene
     spec = load_scene("hydrostatic", [("numerics.spacing", 0.005), ("fluid.time_step", 0.0005),
                                       ("output.timeseries_interval", 0.0005), ("scene.end_time", 0.4),
-                                      ("output.snapshot_interval", 0.0), *tolerance])
+                                      ("output.snapshot_interval", 0.0), ("geometry.pressure_probes", True),
+                                      *tolerance])
     judges = run_scene(spec, None, progress=False)["judges"]
     lo, hi = swing_range
     assert lo <= judges["wall_swing"]["error"] <= hi

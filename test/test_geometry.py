@@ -455,7 +455,7 @@ def test_a_swing_is_the_standard_deviation_over_its_scale():
     """judge kind swing: a column a + b sin(w t) over whole periods has the standard deviation b / sqrt(2); its error
     is that over the reference (a scale), with the window's mean, min and max beside it."""
     from sph_fsi_core.answers.judges import evaluate_judges
-    values = load_scene("hydrostatic", ["numerics.spacing=0.005"]).values
+    values = load_scene("hydrostatic", ["numerics.spacing=0.005", "geometry.pressure_probes=true"]).values
     t = np.linspace(0.0, 1.0, 4001)
     wall = 735.0 + 30.0 * np.sin(2 * np.pi * 40.0 * t)
     out = evaluate_judges({"time": t, "wall_p": wall, "bulk_p": np.full_like(t, 700.0)}, values)

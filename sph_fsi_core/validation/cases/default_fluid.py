@@ -42,7 +42,8 @@ def rungs():
                 note=f"dp = {dp * 1e3:g} mm; floor pressure against rho g H")
            for dp, extra in ((0.005, {}), (0.0025, {"fluid.time_step": 0.0025}))]
     out += [Rung("rest_pressure", f"H_over_dp_{round(TANK_DEPTH / dp)}", "hydrostatic",
-                 {"numerics.spacing": dp, "fluid.time_step": REST_STEP, "output.timeseries_interval": REST_STEP},
+                 {"numerics.spacing": dp, "fluid.time_step": REST_STEP, "output.timeseries_interval": REST_STEP,
+                  "geometry.pressure_probes": True},
                  end_time=1.0, resolution=f"H/dp {round(TANK_DEPTH / dp)}", judge="wall_swing",
                  note=f"dp = {dp * 1e3:g} mm, a fluid step of {REST_STEP * 1e3:g} ms; the end-wall probe's swing")
             for dp in (0.005, 0.0025)]
