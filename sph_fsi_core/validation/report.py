@@ -48,9 +48,8 @@ def measured_against(s, judge=""):
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
     elif judge is not None:
-        if judge.get("kind") in ("mean", "frequency") and judge.get("measured") is not None:
-            measured = f"{judge['column']} {judge['measured']:.4g}"       # a scalar against an exact value
-            ref = f"{judge['reference']:.4g}"
+        if judge.get("kind") in ("mean", "frequency", "swing") and judge.get("measured") is not None:
+            measured, ref, _ = _judge_cells(judge)       # a scalar against an exact value or a scale
         else:
             measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
                                  if j.get("error") is not None)
