@@ -69,21 +69,22 @@ def _cells(base, s):
 
 
 READING = (
-    "Reading it. Taken in part, the last iteration removes the pulses where they are the stopping rule's: the water "
-    "at rest stepped as a coupled run swings by 0.84 / 0.09 % of rho g H at H/dp 20 / 40 against 59 / 15 %, its "
-    "mean within 1 % of rho g (H - z) as before, and the small plate under water by 0.1 % of its deflection against "
-    "9.2 %. The fronts (Martin & Moyce, Lobovsky) and Antoci's gate do not move (by 0.01, 0 and 0.17 "
-    "points), the tank's floor pressure by a few tenths of a per cent, SPHERIC's heights by 1-2 mm of RMS. The steps "
-    "that stopped anywhere below the tolerance now end on it, so they take 10-30 % more iterations (0.6 to 1.0 at "
-    "rest at H/dp 20, 1.8 to 2.0 in SPHERIC). What it does not cure: Antoci's gate at rest (its swing is its wet "
+    "Reading it. Taken in part, the last iteration removes the pulses where they are the stopping rule's: the water at"
+    " rest stepped as a coupled run swings by 0.84 / 0.09 % of rho g H at H/dp 20 / 40 against 59 / 15 %, its mean "
+    "within 1 % of rho g (H - z) as before, and the small plate under water by 0.1 % of its deflection against 9.2 %. "
+    "The fronts (Martin & Moyce, Lobovsky) and Antoci's gate do not move (by 0.01, 0 and 0.17 points), the tank's "
+    "floor pressure by a few tenths of a per cent, SPHERIC's heights by 1-2 mm of RMS (the run's own spread: the "
+    "default scene at a spacing one rounding unit apart, 0.0275 m against 0.55 / 20, moves H2's RMS by 0.9 mm). The "
+    "steps that stopped anywhere below the tolerance now end on it, so they take 10-30 % more iterations (0.6 to 1.0 "
+    "at rest at H/dp 20, 1.8 to 2.0 in SPHERIC). What it does not cure: Antoci's gate at rest (its swing is its wet "
     "mode's, docs/validation/OPEN.md 1.0), the scaled benchmark plate under 2 m of water (61 % of its deflection "
     "against 76 %: the staggered push's added-mass alternation and the column's start, OPEN.md 1.0, which the push's "
-    "relaxation and a compressed start take down to 0.3 %), the steel gate's ringing (its mode is at the fluid step's own frequency, "
-    "and the push is held over each step's sub-steps), and SPHERIC's P1 peak (38.3 kPa against 31.6, the measured "
-    "10.6: the impact's, not the stopping rule's). The study's own runs read 9f2f9f4 as their commit: they ran the "
-    "working tree of the commit that adds fluid.partial_iteration to it (without the option, the same bits as "
-    "9f2f9f4 on every scene). Wall times: those runs shared the 2-core host with another job (a load of about 3), "
-    "the copied rows (their own commit) ran on a quieter host; compare the iterations per step.")
+    "relaxation and a compressed start take down to 0.3 %), the steel gate's ringing (its mode is at the fluid step's "
+    "own frequency, and the push is held over each step's sub-steps), and SPHERIC's P1 peak (38.3 kPa against 31.6, "
+    "the measured 10.6: the impact's, not the stopping rule's). The study's own runs read 9f2f9f4 as their commit: "
+    "they ran the working tree of the commit that adds fluid.partial_iteration to it (without the option, the same "
+    "bits as 9f2f9f4 on every scene). Wall times: those runs shared the 2-core host with another job (a load of about "
+    "3), the copied rows (their own commit) ran on a quieter host; compare the iterations per step.")
 
 
 def table(out_dir, rungs, summaries):
