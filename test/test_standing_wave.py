@@ -138,3 +138,18 @@ def test_a_wave_that_is_no_mode_of_its_water_is_warned_about():
     built, _ = build_scene(spec.builder, spec.values)
     assert len(built.warnings) == 1 and "parts.water.standing_wave_length = 0.5 m" in built.warnings[0]
     assert "not a whole number of wavelengths" in built.warnings[0]
+
+
+def test_the_reports_cells_give_the_loss_and_the_period():
+    """A decay judge's row: the loss a period and the period it measured, against the loss expected, the error
+    signed (a growing wave's negative); a frequency judge's: the frequency and its period."""
+    from sph_fsi_core.validation.report import measured_against
+    decay = {"kind": "decay", "column": "antinode_0", "measured": 0.504, "reference": 0.0, "error": 0.504,
+             "error_signed": 0.504, "period_s": 0.6079}
+    frequency = {"kind": "frequency", "column": "antinode_0", "measured": 1.645, "reference": 1.373, "error": 0.198,
+                 "error_signed": 0.198}
+    summary = {"judges": {"period": frequency, "loss": decay}}
+    assert measured_against(summary, "loss") == ("antinode_0 loses 50.40 % a period (0.6079 s)", "0.00 % a period",
+                                                 "+50.40 %")
+    assert measured_against(summary, "period") == ("antinode_0 1.645 Hz (period 0.6079 s)", "1.373 Hz (0.7283 s)",
+                                                   "+19.80 %")

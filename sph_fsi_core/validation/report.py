@@ -66,7 +66,8 @@ def measured_against(s, judge=""):
 
 def _judge_cells(j):
     """A scalar judge's cells: a swing as its spread (and mean) against its scale, a decay as the amplitude lost
-    per period (and the period) against the loss expected, a mean or frequency against its exact value."""
+    per period (and the period) against the loss expected, a frequency (and its period) or a mean against its exact
+    value."""
     if j.get("measured") is None:
         return "-", f"{j['reference']:.4g}", "-"
     if j["kind"] == "swing":
@@ -75,6 +76,9 @@ def _judge_cells(j):
     if j["kind"] == "decay":
         return (f"{j['column']} loses {100 * j['measured']:.2f} % a period ({j['period_s']:.4g} s)",
                 f"{100 * j['reference']:.2f} % a period", f"{100 * j['error_signed']:+.2f} %")
+    if j["kind"] == "frequency":
+        return (f"{j['column']} {j['measured']:.4g} Hz (period {1 / j['measured']:.4g} s)",
+                f"{j['reference']:.4g} Hz ({1 / j['reference']:.4g} s)", f"{100 * j['error_signed']:+.2f} %")
     return f"{j['column']} {j['measured']:.4g}", f"{j['reference']:.4g}", f"{100 * j['error_signed']:+.2f} %"
 
 
@@ -336,7 +340,9 @@ def write_default_report(out_dir, rungs, summaries):
         f"![error against wall time]({figure})", "",
         "Errors: the frequency's and the deflections' signed (+: softer than the reference), the fronts' and "
         "Antoci's gate's an RMS over the record, SPHERIC test 2's the first judge's (H2's RMS over 0-6 s, in m "
-        "over the measured range); the paper's gate has no measurement, so its rungs are held to the finest one.",
+        "over the measured range), the standing wave's frequency signed (+: faster than linear theory) and its "
+        "loss the fraction of its amplitude lost a period; the paper's gate has no measurement, so its rungs are "
+        "held to the finest one.",
     ]
     for case in cases.CASES:
         if hasattr(case, "table"):
