@@ -234,6 +234,10 @@ FLUID = [
        low=0.0, low_inclusive=False, high=0.5, rebuild=False),
     _p("fluid.tolerance_on", "max", "", "Which compression measure the tolerance governs (both are reported)",
        kind="str", choices=("max", "mean"), rebuild=False),
+    _p("fluid.partial_iteration", False, "",
+       "The correction's last iteration taken only in the part that brings the compression to the tolerance, so a "
+       "step's work, and the pressure the water reads, changes continuously rather than by whole iterations (false: "
+       "the paper's; docs/method.md)", kind="bool", rebuild=False),
     _p("fluid.correction_coefficient", 0.0, "m/s",
        "c of eq. (7), how far one correction moves a particle (0: automatic, c = correction_kappa * h / dt)",
        low=0.0, high=1.0e4, rebuild=False),

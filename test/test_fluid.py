@@ -319,3 +319,67 @@ def test_the_pressure_at_rest_comes_in_pulses_unless_the_correction_holds_the_me
     assert lo <= judges["bulk_swing"]["error"] <= hi
     assert abs(judges["wall_mean"]["error"]) < 0.03 and abs(judges["bulk_mean"]["error"]) < 0.03
 
+
+
+def test_the_last_iteration_taken_in_part_ends_a_step_at_the_tolerance():
+    """fluid.partial_iteration: the iteration that crosses the tolerance is taken in the part that brings the largest
+    compression to it (the error taken as linear in the fraction), so every step that corrects ends at the tolerance
+    (here within 1 % of it, 0.4 % measured, anew at the step's end positions) and reports that error; the paper's whole
+    iterations end anywhere below (0.64-0.97 % on this tank at rest against its 1 %)."""
+    def steps(partial):
+        spec = load_scene("hydrostatic", [("numerics.spacing", 0.005), ("fluid.time_step", 0.0005),
+                                          ("fluid.partial_iteration", partial), ("output.snapshot_interval", 0.0)])
+        solver = Simulation(spec).fluid_phase.solver
+        ends = []
+        for _ in range(200):
+            report = solver.step(0.0005)
+            if report.iterations:
+                ends.append((report.error_max, solver.density()[0]))
+        return np.array(ends), spec["fluid.density_tolerance"]
+    ends, tol = steps(True)
+    assert len(ends) > 150                                          # at rest under gravity, nearly every step corrects
+    assert np.all(np.abs(ends[:, 1] - tol) < 1e-2 * tol)
+    assert np.all(np.abs(ends[:, 0] - ends[:, 1]) < 1e-2 * tol)     # the reported error is the one reached
+    whole, _ = steps(False)
+    assert np.all(whole[:, 1] <= tol) and np.ptp(whole[:, 1]) > 0.2 * tol
+
+
+def test_with_the_last_iteration_taken_in_part_the_water_at_rest_reads_a_steady_pressure():
+    """The default suite's rest_pressure rung at H/dp 20 (the tank stepped at 0.5 ms, one sample per fluid step) with
+    fluid.partial_iteration: the end wall's and the bulk's probes swing by under 2 % of rho g H over 0.7-1 s (the
+    issue's goal; the paper's correction: 59 %), their means within 1 % of rho g (H - z), at the paper's tolerance
+    and about one iteration a step (docs/validation/studies/partial_iteration)."""
+    from sph_fsi_core.run import run_scene
+    spec = load_scene("hydrostatic", [("numerics.spacing", 0.005), ("fluid.time_step", 0.0005),
+                                      ("output.timeseries_interval", 0.0005), ("scene.end_time", 1.0),
+                                      ("output.snapshot_interval", 0.0), ("geometry.pressure_probes", True),
+                                      ("fluid.partial_iteration", True)])
+    summary = run_scene(spec, None, progress=False)
+    judges = summary["judges"]
+    assert judges["wall_swing"]["error"] < 0.02 and judges["bulk_swing"]["error"] < 0.02
+    assert abs(judges["wall_mean"]["error"]) < 0.01 and abs(judges["bulk_mean"]["error"]) < 0.01
+    assert summary["fluid_iterations_per_step"] < 1.5
+
+
+def test_the_energy_budget_of_a_decaying_shear_wave_is_the_viscous_terms():
+    """A shear wave u_x = U sin(k z) in a periodic block decays as exp(-nu k^2 t) (its kinetic energy as
+    exp(-2 nu k^2 t): the viscous diffusion equation's exact answer). The step's energy budget (StepReport) gives
+    what it loses to the viscous term: its sum over the run equals the kinetic energy lost to 1e-9 of the start's,
+    the correction takes almost none (the flow does not compress the block), and the decay's viscosity is nu's
+    within 4 % at 16 particles per wavelength (2.5 % short measured: Morris's form)."""
+    n, nu, U, dt, steps = 16, 1.0e-3, 0.01, 1.0e-4, 50
+    fluid, period = _periodic_block(n)
+    k = 2.0 * math.pi / period[2]
+    fluid.vel[:, 0] = U * np.sin(k * fluid.pos[:, 2])
+    s = _solver(fluid, period, nu=nu)
+    start = 0.5 * float((fluid.mass * (fluid.vel ** 2).sum(axis=1)).sum())
+    viscous = correction = 0.0
+    for _ in range(steps):
+        report = s.step(dt)
+        viscous += report.viscous_loss
+        correction += report.correction_loss
+    end = 0.5 * float((fluid.mass * (fluid.vel ** 2).sum(axis=1)).sum())
+    assert viscous + correction == pytest.approx(start - end, abs=1e-9 * start)
+    assert abs(correction) < 1e-3 * start
+    effective_nu = -math.log(end / start) / (2.0 * k * k * steps * dt)
+    assert effective_nu == pytest.approx(nu, rel=0.04)

@@ -11,6 +11,7 @@ import time as _time
 import numpy as np
 
 from ..errors import SceneError
+from .energy import mechanical_energy
 from .solver import FluidSolver
 
 # the settling phase's velocity relaxation, rate = SETTLE_RELAXATION / fluid.settle_time: a velocity's memory falls
@@ -51,6 +52,19 @@ class FluidPhase:
         self.initial_positions = fluid.pos.copy()
         self.solver = None
         self.start(boundary)
+        self._start_budget()
+
+    def _start_budget(self):
+        """The energy budget's zero (the clock's start): the potential energy now, and no losses yet."""
+        self.correction_loss = 0.0     # J, the mechanical energy the steps' corrections took since t = 0
+        self.viscous_loss = 0.0        # J, the viscous term's
+        self.potential_at_start = self.energies()[1]
+
+    def energies(self):
+        """(kinetic, potential) mechanical energy of the water, J (fluid/energy.py; the potential zero at the
+        origin)."""
+        g = self.values["scene.gravity"]
+        return mechanical_energy(self.fluid.pos, self.fluid.vel, self.fluid.mass, g[0], g[1], g[2])
 
     def start(self, boundary):
         """The solver over the walls of `boundary` (made anew: its lists, its work arrays), configured, and the
@@ -69,7 +83,8 @@ class FluidPhase:
         settings = dict(rho0=v["fluid.density"], nu=v["fluid.viscosity"], gravity=v["scene.gravity"],
                         tolerance=v["fluid.density_tolerance"], tolerance_on=v["fluid.tolerance_on"],
                         coefficient=v["fluid.correction_coefficient"], kappa=v["fluid.correction_kappa"],
-                        min_iterations=v["fluid.min_iterations"], max_iterations=v["fluid.max_iterations"])
+                        min_iterations=v["fluid.min_iterations"], max_iterations=v["fluid.max_iterations"],
+                        partial=v["fluid.partial_iteration"])
         forced = v["fluid.time_step"]
         if forced > 0.0:
             limit = min(self.solver.stable_dt(v["fluid.cfl"], nu=settings["nu"], gravity=settings["gravity"]),
@@ -165,6 +180,8 @@ class FluidPhase:
         if report.capped:
             worst[3] += 1
             self.capped_steps += 1
+        self.correction_loss += report.correction_loss
+        self.viscous_loss += report.viscous_loss
         return report
 
     def settle(self, duration, follow_solid):
@@ -204,6 +221,7 @@ class FluidPhase:
         speed = float(np.sqrt((self.fluid.vel ** 2).sum(axis=1).max())) if self.fluid.count else 0.0
         self.fluid.vel[:] = 0.0
         self.initial_positions = self.fluid.pos.copy()     # where the water is when the clock starts
+        self._start_budget()
         if capped:
             self.warnings.append(f"settling before t = 0: {capped} of {steps} fluid step(s) reached "
                                  f"fluid.max_iterations = {self.values['fluid.max_iterations']}")
@@ -257,8 +275,13 @@ class FluidPhase:
 
     def sample(self):
         """The time series' fluid columns: the step, its count in the last outer step, and that step's
-        statistics (before any: the start's density error)."""
+        statistics (before any: the start's density error); and the water's energy budget since t = 0 (J): its
+        potential energy's change, and what the corrections and the viscous term took (with the kinetic energy,
+        fluid_kinetic_energy, they sum to the kinetic energy at t = 0 but for the water held after leaving the domain
+        and a static case's relaxation)."""
         stats = self.interval or {"iterations_mean": 0.0, "iterations_max": 0,
                                   "density_error_max": self.last_error_max,
                                   "density_error_mean": self.last_error_mean, "capped_steps": 0}
-        return {"fluid_dt": self.last_dt, "fluid_substeps": self.last_substeps, **stats}
+        return {"fluid_dt": self.last_dt, "fluid_substeps": self.last_substeps, **stats,
+                "fluid_potential_energy": self.energies()[1] - self.potential_at_start,
+                "fluid_correction_loss": self.correction_loss, "fluid_viscous_loss": self.viscous_loss}

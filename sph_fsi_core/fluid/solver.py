@@ -11,7 +11,9 @@ One step of size dt:
 Convergence: the compression (rho - rho0)_+ / rho0 is measured as its maximum and its mean over the fluid; the
 one named by fluid.tolerance_on must be at most fluid.density_tolerance (the paper: 1 %), after at least
 fluid.min_iterations corrections. A step that reaches fluid.max_iterations stops there and is counted and
-reported (`capped`), never silently accepted.
+reported (`capped`), never silently accepted. With fluid.partial_iteration the iteration that takes the compression
+below the tolerance is taken only in the part that brings it to the tolerance (stepper.correction_loop), so a
+step's work changes continuously with the state instead of by whole iterations.
 
 The correction coefficient c: one iteration moves a particle by dt^2 c^2 (grad rho)/rho^2 ~ (c dt / h)^2 h
 times its relative compression, so what sets the iteration's stability and speed is kappa = c dt / h, not c.
@@ -32,6 +34,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from .energy import mechanical_energy
 from .okaji import (FLUID_BLOCK_COLUMNS, compression_error, gravity_and_predictor, summation_density,
                     velocity_from_displacement, viscous_velocity, wall_pressure, wrap_periodic)
 from .stepper import (CAPPED, NEEDS_REBUILD, CorrectionParams, FluidArrays, FluidBuffers, FluidNeighbours,
@@ -43,13 +46,18 @@ from ..numerics.pair_blocks import block_scratch
 
 
 class StepReport(NamedTuple):
-    """What one fluid step did: correction iterations, final compression (max, mean), whether it hit the cap."""
+    """What one fluid step did: correction iterations, final compression (max, mean), whether it hit the cap, and
+    the mechanical energy (kinetic and potential, J) the step took from the water: by the predictor, the correction
+    and eq. (8) together (`correction_loss`: what the walls' and the water's own incompressibility took, with the
+    time integration's error), and by the viscous term (`viscous_loss`)."""
     dt: float
     iterations: int
     error_max: float
     error_mean: float
     capped: bool
     rebuilds: int
+    correction_loss: float = 0.0
+    viscous_loss: float = 0.0
 
 
 class FluidSolver:
@@ -99,11 +107,15 @@ class FluidSolver:
         self.kappa = 1.0
         self.min_iterations = 1
         self.max_iterations = 100
+        self.partial = False
+        self.last_p = np.zeros(n)          # the last iteration's pressures (fluid.partial_iteration)
+        self.error_before = np.zeros(2)    # and the (max, mean) compression before it
         self.rebuild()
         self.density()
 
     def configure(self, rho0, nu, gravity, tolerance, tolerance_on, coefficient, kappa, min_iterations,
-                  max_iterations):
+                  max_iterations, partial=False):
+        self.partial = bool(partial)
         self.rho0, self.nu = float(rho0), float(nu)
         self.gravity = tuple(float(g) for g in gravity)
         self.tolerance = float(tolerance)
@@ -225,6 +237,8 @@ class FluidSolver:
     # ---- one step ----------------------------------------------------------------------------------------
     def step(self, dt):
         fl = self.fluid
+        gx, gy, gz = self.gravity
+        energy_before = sum(mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz))
         gravity_and_predictor(fl.pos, fl.vel, dt, self.gravity[0], self.gravity[1], self.gravity[2], self.pos_old)
         fl.correction_displacement[:] = 0.0
         fl.pressure[:] = 0.0
@@ -233,12 +247,14 @@ class FluidSolver:
         walls = self.wall_arrays()
         prm = self.correction_params(c, dt)
         it, rebuilds = 0, 0
+        self.error_before[:] = -1.0
         while True:
             if self.fluid_neighbours.is_stale(fl.pos, fl.pos):
                 self.rebuild()
                 rebuilds += 1
             # a rebuild replaces the lists and may replace the pair caches: taken anew each call
-            it, emax, emean, status = correction_loop(it, arrays, walls, self.neighbours(), prm, self.buffers())
+            it, emax, emean, status = correction_loop(it, arrays, walls, self.neighbours(), prm, self.buffers(),
+                                                      self.partial, self.last_p, self.error_before)
             if status != NEEDS_REBUILD:
                 break
             if rebuilds > self.max_iterations + 2:   # cannot happen unless particles fly: let the watchdog see it
@@ -246,10 +262,14 @@ class FluidSolver:
             self.rebuild()
             rebuilds += 1
         velocity_from_displacement(fl.pos, self.pos_old, dt, fl.vel)
+        kinetic, potential = mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz)
+        viscous_loss = 0.0
         if self.nu > 0.0:
             viscous_velocity(fl.pos, fl.vel, fl.mass, fl.rho, self.neighbours(), self.buffers(), self.h, self.nu, dt,
                              self.vel_work)
             fl.vel[:] = self.vel_work
+            viscous_loss = kinetic - mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz)[0]
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)
-        return StepReport(dt, it, emax, emean, status == CAPPED, rebuilds)
+        return StepReport(dt, it, emax, emean, status == CAPPED, rebuilds, energy_before - kinetic - potential,
+                          viscous_loss)

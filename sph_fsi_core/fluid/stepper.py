@@ -4,7 +4,7 @@ FluidSolver, the passes it calls fluid/okaji.py's."""
 from typing import NamedTuple
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from .okaji import apply_displacement, compression_error, pressure_displacement, summation_density, wall_pressure
 
@@ -77,7 +77,7 @@ class FluidBuffers(NamedTuple):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def correction_loop(it_start, fluid, walls, neighbours, prm, work):
+def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last_p, before):
     """The density-correction iterations of one step (Okaji 2002 as in Satake et al. sec. 2.2: eq. (1), (7), (2)),
     from iteration `it_start` (lists valid on entry).
 
@@ -85,6 +85,14 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work):
     FluidBuffers. Returns (iterations done, max error, mean error, status): CONVERGED, CAPPED, or NEEDS_REBUILD
     when a particle has moved more than half the skin since the lists were built (the caller rebuilds and calls
     again). Four parallel passes per iteration: density with (7), wall pressure, position correction, apply.
+
+    `partial` (fluid.partial_iteration): the iteration that takes the error below the tolerance is taken only in
+    part, the fraction f = (e_before - tol) / (e_before - e_after) of it (the error taken as linear in the
+    fraction), so the step ends with its error at the tolerance rather than anywhere below it, and the errors
+    returned are the ones interpolated so. `last_p` (N,) keeps the last iteration's pressures for it, `before` (2,)
+    the (max, mean) errors before the last iteration (the caller sets -1 at the step's start; kept across a
+    rebuild). Without it the work a step does jumps by whole iterations, and at rest the pressure the water reads
+    comes in pulses (docs/method.md, "Fluid", the partial iteration).
     """
     pos = fluid.pos
     rho = fluid.rho
@@ -95,16 +103,38 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work):
         emax, emean = compression_error(rho, prm.rho0)
         err = emean if prm.on_mean else emax
         if it >= prm.min_iterations and err <= prm.tolerance:
+            err_before = before[1] if prm.on_mean else before[0]
+            if partial and err_before > prm.tolerance and err_before > err:
+                kept = (err_before - prm.tolerance) / (err_before - err)
+                undo_part(pos, work.disp, fluid.correction_displacement, fluid.pressure, last_p, 1.0 - kept)
+                emax = before[0] + kept * (emax - before[0])
+                emean = before[1] + kept * (emean - before[1])
             return it, emax, emean, CONVERGED
         if it >= prm.max_iterations:
             return it, emax, emean, CAPPED
         if walls.pos.shape[0] > 0:
             wall_pressure(walls, pos, work.p, neighbours, prm.h, prm.rho0)
         pressure_displacement(fluid, walls, neighbours, prm, work)
+        if partial:
+            last_p[:] = work.p
         apply_displacement(pos, work.disp, fluid.correction_displacement, neighbours.targets_at_build, moved2)
+        before[0] = emax
+        before[1] = emean
         it += 1
         if _largest(moved2) > prm.half_skin * prm.half_skin:
             return it, -1.0, -1.0, NEEDS_REBUILD
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
+def undo_part(pos, disp, total, pressure, last_p, share):
+    """Take back `share` of the last iteration: its displacement `disp` from the positions and from the step's
+    correction `total`, its pressures `last_p` from the step's pressure sum."""
+    for a in prange(pos.shape[0]):
+        for k in range(3):
+            d = share * disp[a, k]
+            pos[a, k] -= d
+            total[a, k] -= d
+        pressure[a] -= share * last_p[a]
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)

@@ -10,11 +10,9 @@ runs the default suite's rungs that show it (the water at rest stepped as a coup
 its water, SPHERIC test 2's coarse rung) and two dam breaks, under the paper's criterion (the maximum compression
 within 1 %) and with the tolerance on the mean compression at 0.1 % and 0.03 %, each with its error and cost.
 """
-from dataclasses import replace
-
-from ..report_tools import fmt
-from ..rung import Rung, rung_error
+from ..rung import rung_error
 from . import default_coupled, default_fluid, spheric2
+from .setting_studies import rest_pressure_cells, setting_rungs, setting_table, spheric2_cells
 
 CASE = "pressure_tolerance"
 # (label, the fluid's keys, what it is)
@@ -40,29 +38,19 @@ def _bases():
 
 
 def rungs():
-    return [replace(base, case=CASE, label=f"{label}__{base.case}_{base.label}", overrides={**base.overrides, **keys},
-                    quick=False, bound=None, counterpart="",
-                    note=f"{base.key}, {what}")
-            for base, labels in _bases() for label, keys, what in SETTINGS if label in labels]
+    return setting_rungs(CASE, _bases(), SETTINGS)
 
 
 def _cells(base, s):
     """The measure that the base rung is judged by, as a cell, and the measures beside it."""
     if base.case == "rest_pressure":
-        wall, bulk, mean = s["judges"]["wall_swing"], s["judges"]["bulk_swing"], s["judges"]["wall_mean"]
-        return (f"swing {100 * wall['error']:.1f} % (bulk {100 * bulk['error']:.1f} %)",
-                f"wall mean {100 * mean['error_signed']:+.2f} %, min {wall['min']:.0f} Pa")
+        return rest_pressure_cells(s, 1)
     if base.case == "antoci_static":
         swing = s["tip_deflection_swing_m"] / s["tip_deflection_m"]
         return (f"{100 * s['error_signed']:+.2f} %", f"swing {100 * swing:.0f} % of the deflection, "
                                                     f"load {100 * s['water_load_error']:+.1f} %")
     if base.case == "spheric2":
-        j = s["judges"]
-        p1, p3 = j["P1"], j["P3"]
-        return (f"H2 {j['H2']['rms']:.4f} m, H4 {j['H4']['rms']:.4f} m",
-                f"P1 peak {p1['peak'] / 1e3:.2f} kPa ({p1['peak_measured'] / 1e3:.2f} measured), onset "
-                f"{p1['onset_difference_s']:+.4f} s; P3 peak {p3['peak'] / 1e3:.2f} kPa "
-                f"({p3['peak_measured'] / 1e3:.2f})")
+        return spheric2_cells(s)
     return f"{100 * rung_error(base, s):.2f} %", "-"
 
 
@@ -83,25 +71,6 @@ READING = (
 
 
 def table(out_dir, rungs, summaries):
-    runs = [r for r in rungs if r.case == CASE]
-    if not runs:
-        return []
-    lines = ["", "## The water's pressure against the correction's tolerance", "", __doc__.split("\n\n", 1)[1].strip()
-             .replace("\n", " "), "",
-             "| rung | tolerance | measure | beside | fluid steps | iterations / step | wall [s] | threads |",
-             "|---|---|---|---|---|---|---|---|"]
-    bases = {b.key: b for b, _ in _bases()}
-    for r in runs:
-        label = r.label.split("__", 1)[0]
-        base = bases[r.note.split(",", 1)[0]]
-        s = summaries.get(r.key)
-        if s is None:
-            lines.append(f"| {base.key} | {label} | not run | | | | | |")
-            continue
-        measure, beside = _cells(base, s)
-        if not s["stable"]:
-            measure += " (unstable)"
-        lines.append(f"| {base.key} | {label} | {measure} | {beside} | {s.get('fluid_steps', 0)} | "
-                     f"{fmt(s.get('fluid_iterations_per_step'), '.1f')} | {s['wall_time_s']:.0f} | "
-                     f"{s.get('machine', {}).get('numba_threads', '-')} |")
-    return lines + ["", READING]
+    lines = setting_table(CASE, "## The water's pressure against the correction's tolerance", __doc__, "tolerance",
+                          rungs, summaries, {b.key: b for b, _ in _bases()}, _cells)
+    return lines + ["", READING] if lines else []
