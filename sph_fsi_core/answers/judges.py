@@ -21,8 +21,7 @@
 Each judge reports its measures, its error (relative: to the reference for a frequency and a mean; for a series the
 RMS over the measured series' range in the window, the RMS itself in the column's unit beside it; for a swing the
 standard deviation over the reference; for a decay the loss less the reference, a fraction per period) and, where
-the
-scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
+the scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
 A measurement file is a CSV with '#' comment lines and a header row, time (s) in its first column; a path relative to
 the scene file, or `reference_data:<name>` for the package's copies (answers/reference_data, with their sources).
 """

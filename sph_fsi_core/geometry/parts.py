@@ -87,9 +87,9 @@ def _water(k):
                "along x, eta = a cos(k (x - x0)) sin(omega t), omega^2 = g k tanh(k d), started at t = 0 (after "
                "fluid.settle_time) by its velocity field with the surface flat (answers/linear_waves.py), added to "
                "the water's velocity; its depth d and floor are the part's (0: none)", low=0.0, high=1.0e3),
-            _p(k + "standing_wave_length", 0.0, "m", "The standing wave's length L = 2 pi / k (needed with an "
-               "amplitude; the water's length along x a whole number of half wavelengths, or the period)",
-               low=0.0, high=1.0e3),
+            _p(k + "standing_wave_length", 0.0, "m", "The standing wave's length L = 2 pi / k, needed with an "
+               "amplitude (a mode of the water: its period along x whole wavelengths, or its length between walls "
+               "whole half wavelengths; else a warning)", low=0.0, high=1.0e3),
             _p(k + "standing_wave_antinode", 0.0, "m", "x0: the x of an antinode, where the surface rises first",
                low=-1.0e3, high=1.0e3)]
 

@@ -11,7 +11,7 @@ one, has its own module, spheric2.py).
     box_push      a box pushed into water at rest (a wall that moves: parts.box.motion), 10 mm: the level's rise
                   against the volume it displaces (config/box_pushed_into_tank.yaml)
     standing_wave a small standing wave in a periodic slab, d / dp 20 and 40 (config/standing_wave.yaml): its period
-                  at an antinode (as a frequency) against linear theory's omega^2 = g k tanh(k d) over five periods;
+                  at an antinode (as a frequency) against linear theory's omega^2 = g k tanh(k d) over five periods
     standing_wave_loss  the same runs: the fraction of its amplitude lost per period (none in linear theory)
 
 Each rung runs the scene's defaults but for the spacing (and the tank's step at its finer rung, as the fluid's step
