@@ -96,6 +96,9 @@ class Simulation:
             if not lifted:                 # the release: the gates are gone, the water's lists made anew
                 self.boundary = self.boundary.without_gates()
                 self.fluid_phase.start(self.boundary)
+        # after the settling, which ends at rest: a wave's field is laid on the water where it settled
+        for rows, field in built.fluid_start:
+            self.fluid.vel[rows] += field.velocity(self.fluid.pos[rows])
 
     # ---- settings ------------------------------------------------------------------------------------------
     def check(self, overrides):

@@ -97,10 +97,14 @@ def test_sph_fsi_keys_lists_the_part_probe_and_judge_keys(capsys):
         assert any(ln.startswith(line) for ln in _under(text, heading)), (heading, line)
     assert main(["keys", "hydrostatic"]) == 0
     text, _ = capsys.readouterr()
-    rows = {line.split()[0]: line for line in text.splitlines() if not line.startswith("#")}
+    rows = {}
+    for line in text.splitlines():
+        if not line.startswith("#"):
+            rows[line.split()[0]] = rows.get(line.split()[0], "") + line + "\n"   # a key of several kinds: a row each
     assert "shape cylinder" in rows["parts.<name>.length"] and "required" in rows["parts.<name>.length"]
     assert "kind point, displacement, pressure or water_height" in rows["probes.<name>.position"]
     assert "kind frequency, mean or swing" in rows["judge.<name>.reference"]
+    assert "= 0.0            [1] in [0, 1); kind decay" in rows["judge.<name>.reference"]
 
 
 # ---- refusals: one line naming the file, the part and the key; exit status 2; nothing written ---------------

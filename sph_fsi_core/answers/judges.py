@@ -13,11 +13,15 @@
     swing      the column's standard deviation over [from, to] as a fraction of `reference` (a scale in the
                column's unit, e.g. rho g H for a pressure): how far a value that should hold still swings from
                sample to sample (with the samples one fluid step apart, from step to step)
+    decay      the fraction of the column's oscillation amplitude lost per period over [from, to]
+               (answers/oscillation.amplitude_loss_per_period: the half-cycle extremes' amplitudes fitted
+               log-linear in time, over the period measured as a frequency judge measures it), against `reference`
+               (default 0: an inviscid answer loses none, so the error is the loss itself)
 
 Each judge reports its measures, its error (relative: to the reference for a frequency and a mean; for a series the
 RMS over the measured series' range in the window, the RMS itself in the column's unit beside it; for a swing the
-standard deviation over the reference) and, where the
-scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
+standard deviation over the reference; for a decay the loss less the reference, a fraction per period) and, where
+the scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
 A measurement file is a CSV with '#' comment lines and a header row, time (s) in its first column; a path relative to
 the scene file, or `reference_data:<name>` for the package's copies (answers/reference_data, with their sources).
 """
@@ -30,7 +34,7 @@ import numpy as np
 
 from ..geometry.parts import list_entries
 from ..schema import SceneError
-from .oscillation import measure_frequency
+from .oscillation import amplitude_loss_per_period, measure_frequency
 from .references import DATA_DIR
 
 PACKAGE_DATA = "reference_data:"
@@ -81,7 +85,7 @@ def check_judges(values, columns):
         if 0.0 < keys["to"] <= keys["from"]:
             raise SceneError(f"judge.{name}.to = {keys['to']:g}: not after judge.{name}.from = {keys['from']:g} s, so "
                              f"nothing would be judged; allowed: to > from (or 0: the run's end)")
-        if keys["kind"] != "series" and 0.0 < keys["baseline_to"] <= keys["baseline_from"]:
+        if "baseline_to" in keys and 0.0 < keys["baseline_to"] <= keys["baseline_from"]:
             raise SceneError(f"judge.{name}.baseline_to = {keys['baseline_to']:g}: not after judge.{name}."
                              f"baseline_from = {keys['baseline_from']:g} s; allowed: baseline_to > baseline_from "
                              f"(or 0: no baseline)")
@@ -182,6 +186,31 @@ def judge_series(series, keys):
     return out
 
 
+def judge_decay(series, keys):
+    """A 'decay' judge's measures: the period (as a frequency judge measures it) and the fraction of the amplitude
+    lost per period, with their uncertainties; the error is the loss less `reference`."""
+    t = np.asarray(series["time"], dtype=np.float64)
+    y = np.asarray(series[keys["column"]], dtype=np.float64)
+    start, end = _window(t, keys)
+    use = (t >= start) & (t <= end)
+    est = measure_frequency(t[use], y[use]) if use.sum() > 2 else None
+    decay = amplitude_loss_per_period(t[use], y[use], est.frequency) if est is not None else None
+    ref = keys["reference"]
+    if decay is None or not math.isfinite(decay.loss_per_period):
+        return {"measured": None, "reference": ref, "error_signed": None, "error": None, "from_s": start,
+                "to_s": end, "note": "not measured: fewer than three half-cycles in the window"}
+    signed = decay.loss_per_period - ref
+    out = {"measured": decay.loss_per_period, "reference": ref, "error_signed": signed, "error": abs(signed),
+           "loss_uncertainty": decay.uncertainty, "period_s": 1.0 / est.frequency,
+           "period_uncertainty_s": est.uncertainty / est.frequency ** 2, "amplitudes": decay.amplitudes,
+           "first_amplitude": decay.first_amplitude, "last_amplitude": decay.last_amplitude, "from_s": start,
+           "to_s": end}
+    if keys["tolerance"] > 0.0:
+        out["tolerance"] = keys["tolerance"]
+        out["check_error"] = abs(signed) <= keys["tolerance"]
+    return out
+
+
 def judge_scalar(series, keys):
     """A 'frequency', 'mean' or 'swing' judge's measures."""
     t = np.asarray(series["time"], dtype=np.float64)
@@ -231,7 +260,8 @@ def evaluate_judges(series, values):
     judges = {}
     checks = {}
     for name, keys in list_entries(values, "judge").items():
-        result = judge_series(series, keys) if keys["kind"] == "series" else judge_scalar(series, keys)
+        judge = {"series": judge_series, "decay": judge_decay}.get(keys["kind"], judge_scalar)
+        result = judge(series, keys)
         result = {"kind": keys["kind"], "column": keys["column"], "source": keys["source"], **result}
         judges[name] = result
         checks.update({f"check_{name}_{k[len('check_'):]}": v for k, v in result.items() if k.startswith("check_")})
@@ -240,7 +270,8 @@ def evaluate_judges(series, values):
         first, result = next(iter(judges.items()))
         what = {"frequency": "relative error of the frequency", "mean": "relative error of the mean",
                 "series": "RMS difference from the measured series over its range",
-                "swing": "standard deviation over the reference"}[result["kind"]]
+                "swing": "standard deviation over the reference",
+                "decay": "loss per period (a fraction of the amplitude, less the reference)"}[result["kind"]]
         out["error"] = result.get("error")
         out["error_metric"] = f"{what} of {result['column']} (judge '{first}'" + (
             f", {result['source']})" if result["source"] else ")")

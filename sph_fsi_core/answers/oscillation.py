@@ -338,30 +338,83 @@ def damping_ratio(t, y, frequency, skip_time=0.0):
     valid for either sign. Returns (nan, nan) with fewer than 3 half-cycles; the error is nan with exactly 3.
     """
     nan = (math.nan, math.nan)
-    if not (np.isfinite(frequency) and frequency > 0.0):
+    fit = _amplitude_decay(t, y, frequency, skip_time)
+    if fit is None:
         return nan
-    t, y = _clean(t, y, skip_time)
-    if y.size < 3 or _is_flat(y):
-        return nan
-    y, times = _centre(t, y)
-    if times.size < 4:
-        return nan
-    ext = _half_cycle_extremes(t, y, times)
-    peak_t = t[ext]
-    peak_y = np.array([_peak_value(t, y, i, 0.125 / frequency) for i in ext])
-    if peak_y.size < 3:
-        return nan
-    amp = 0.5 * np.abs(np.diff(peak_y))
-    mid = 0.5 * (peak_t[1:] + peak_t[:-1])
-    ok = amp > 0.0
-    if np.count_nonzero(ok) < 2:
-        return nan
-    slope, se_slope, _ = _line_fit(mid[ok], np.log(amp[ok]))
+    slope, se_slope, _, _ = fit
     omega_d = 2.0 * math.pi * frequency
     r = -slope / omega_d
     zeta = r / math.sqrt(1.0 + r * r)
     se = (se_slope / omega_d) / (1.0 + r * r) ** 1.5
     return zeta, se
+
+
+def _end_extremes(t, y, times, ext):
+    """The half-cycle extremes with the record's two partial half-cycles (before its first crossing, after its last)
+    added where each holds an extreme of its own: |y|'s largest sample inside it, not at either of its ends, of the
+    sign opposite to the next full half-cycle's. A record that starts at rest or at a crossing (a wave started at
+    its flat phase) keeps its first crest, its largest."""
+    bounds = np.searchsorted(t, times[[0, -1]])
+    out = list(ext)
+    for lo, hi, neighbour, at in ((0, bounds[0], ext[0], 0), (bounds[1], t.size, ext[-1], len(out))):
+        if hi - lo < 3:
+            continue
+        i = lo + int(np.argmax(np.abs(y[lo:hi])))
+        if lo < i < hi - 1 and np.sign(y[i]) == -np.sign(y[neighbour]):
+            out.insert(at, i)
+    return np.array(out, dtype=np.int64)
+
+
+def _amplitude_decay(t, y, frequency, skip_time=0.0, ends=False):
+    """(slope, its standard error, the half-cycle amplitudes (K,), their times (K,)) of the straight-line fit of
+    log amplitude against time (1/s), the amplitudes half the differences of consecutive half-cycle extremes (free
+    of the offset; with `ends`, the partial half-cycles' too: _end_extremes); None with fewer than 3 half-cycles or
+    2 amplitudes."""
+    if not (np.isfinite(frequency) and frequency > 0.0):
+        return None
+    t, y = _clean(t, y, skip_time)
+    if y.size < 3 or _is_flat(y):
+        return None
+    y, times = _centre(t, y)
+    if times.size < 4:
+        return None
+    ext = _half_cycle_extremes(t, y, times)
+    if ends and ext.size:
+        ext = _end_extremes(t, y, times, ext)
+    peak_t = t[ext]
+    peak_y = np.array([_peak_value(t, y, i, 0.125 / frequency) for i in ext])
+    if peak_y.size < 3:
+        return None
+    amp = 0.5 * np.abs(np.diff(peak_y))
+    mid = 0.5 * (peak_t[1:] + peak_t[:-1])
+    ok = amp > 0.0
+    if np.count_nonzero(ok) < 2:
+        return None
+    slope, se_slope, _ = _line_fit(mid[ok], np.log(amp[ok]))
+    return slope, se_slope, amp[ok], mid[ok]
+
+
+@dataclass(frozen=True)
+class DecayEstimate:
+    loss_per_period: float  # the fraction of the amplitude lost over one period, 1 - exp(slope T); < 0: growth
+    uncertainty: float      # one standard error of it (nan with exactly 2 amplitudes)
+    amplitudes: int         # half-cycle amplitudes fitted
+    first_amplitude: float  # the first and the last of them, in the signal's unit
+    last_amplitude: float
+
+
+def amplitude_loss_per_period(t, y, frequency, skip_time=0.0):
+    """The fraction of a single-mode oscillation's amplitude lost per period 1 / `frequency` (the observed one):
+    the logarithmic decrement of damping_ratio's fit (the half-cycle extremes' amplitudes, log-linear in time,
+    slope s), as 1 - exp(s / f), with its standard error; the record's partial first and last half-cycles count
+    where they hold an extreme (a wave started at its flat phase peaks a quarter period in, before any crossing).
+    nan with fewer than 3 half-cycles."""
+    fit = _amplitude_decay(t, y, frequency, skip_time, ends=True)
+    if fit is None:
+        return DecayEstimate(math.nan, math.nan, 0, math.nan, math.nan)
+    slope, se_slope, amp, _ = fit
+    ratio = math.exp(slope / frequency)
+    return DecayEstimate(1.0 - ratio, ratio * se_slope / frequency, int(amp.size), float(amp[0]), float(amp[-1]))
 
 
 def _cumulative_integral_at(t, y, tau):

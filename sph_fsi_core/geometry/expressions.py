@@ -22,7 +22,7 @@ import operator
 from ..errors import SceneError
 
 FUNCTIONS = {"min": min, "max": max, "round": round, "ceil": math.ceil, "floor": math.floor, "abs": abs,
-             "sqrt": math.sqrt}
+             "sqrt": math.sqrt, "tanh": math.tanh}
 # names an expression always has besides the scene's (the scene's own may not take them)
 CONSTANTS = ("dp", "h", "pi")
 MAX_LENGTH = 1000

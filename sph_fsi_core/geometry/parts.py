@@ -25,7 +25,7 @@ SHAPES = ("box", "cylinder", "sphere", "mesh")
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
 PROBE_KINDS = ("point", "displacement", "pressure", "water_height", "force")
 AXES = ("x", "y", "z")
-JUDGE_KINDS = ("frequency", "mean", "series", "swing")
+JUDGE_KINDS = ("frequency", "mean", "series", "swing", "decay")
 MOTIONS = ("none", "linear", "sinusoid", "table", "ros")
 REQUIRED = None    # a Param default meaning "must be given"
 
@@ -82,7 +82,16 @@ def _mesh(k):
 
 
 def _water(k):
-    return [_p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the water", kind="vec3")]
+    return [_p(k + "velocity", (0.0, 0.0, 0.0), "m/s", "Initial velocity of the water", kind="vec3"),
+            _p(k + "standing_wave_amplitude", 0.0, "m", "With standing_wave_length: linear theory's standing wave "
+               "along x, eta = a cos(k (x - x0)) sin(omega t), omega^2 = g k tanh(k d), started at t = 0 (after "
+               "fluid.settle_time) by its velocity field with the surface flat (answers/linear_waves.py), added to "
+               "the water's velocity; its depth d and floor are the part's (0: none)", low=0.0, high=1.0e3),
+            _p(k + "standing_wave_length", 0.0, "m", "The standing wave's length L = 2 pi / k, needed with an "
+               "amplitude (a mode of the water: its period along x whole wavelengths, or its length between walls "
+               "whole half wavelengths; else a warning)", low=0.0, high=1.0e3),
+            _p(k + "standing_wave_antinode", 0.0, "m", "x0: the x of an antinode, where the surface rises first",
+               low=-1.0e3, high=1.0e3)]
 
 
 def _wall(k):
@@ -212,7 +221,8 @@ def _every_judge(k):
     return [_p(k + "kind", REQUIRED, "", "How a time-series column is judged: 'frequency' (its dominant frequency "
                "against reference), 'mean' (its mean over [from, to] against reference), 'series' (against a "
                "measured series in a CSV file), 'swing' (its standard deviation over [from, to] as a fraction of "
-               "reference)", kind="str", choices=JUDGE_KINDS),
+               "reference), 'decay' (the fraction of its oscillation's amplitude lost per period)", kind="str",
+               choices=JUDGE_KINDS),
             _p(k + "column", REQUIRED, "", "The timeseries.csv column judged (a probe's, e.g. 'tip_dz', 'P1', 'H2')",
                kind="str"),
             _p(k + "source", "", "", "Where the reference comes from (shown in the summary)", kind="str"),
@@ -250,6 +260,13 @@ def _judge_series(k):
                low=0.0, high=10.0)]
 
 
+def _judge_decay(k):
+    return [_p(k + "reference", 0.0, "1", "The fraction of the amplitude lost per period expected (0: none, as an "
+               "inviscid answer); the error is the measured loss less it", low=0.0, high=1.0, high_inclusive=False),
+            _p(k + "tolerance", 0.0, "1", "Loss per period allowed beyond the reference (0: reported, not checked)",
+               low=0.0, high=1.0)]
+
+
 # Which entries have which keys, in the order an entry's keys are declared: (the entries, as the reference names
 # them; the roles and shapes (parts) or kinds (probes, judges) that have them; their declarations).
 PART_GROUPS = (("every part", ROLES, SHAPES, _every_part),
@@ -276,7 +293,8 @@ PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
                 ("kind frequency, mean or swing", ("frequency", "mean", "swing"), _judge_reference),
-                ("kind series", ("series",), _judge_series))
+                ("kind series", ("series",), _judge_series),
+                ("kind decay", ("decay",), _judge_decay))
 
 
 def part_params(name, role, shape, motion="none"):

@@ -31,6 +31,9 @@ class Built:
     # or, with a velocity (m/s), a gate lifted from t = 0 at that velocity until it has moved release_travel (m)
     release_velocity: np.ndarray | None = None
     release_travel: float = 0.0
+    # what the water starts with at t = 0, once settled (simulation.py): [(fluid rows, a field whose velocity(pos)
+    # is added to theirs)], a water part's standing wave (answers/linear_waves.StandingWave)
+    fluid_start: list = field(default_factory=list)
     # the wall parts that move (motion.py: linear, sinusoid, table, commanded), {part name: Motion}
     motions: dict = field(default_factory=dict)
     # a geometry scene's parts (scenes/geometry.py): {name: (phase, indices into that phase's particles)}, phase

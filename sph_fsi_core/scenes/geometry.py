@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from ..answers.judges import check_judges, evaluate_judges
+from ..answers.linear_waves import StandingWave
 from ..answers.references import cantilever_mode_velocity
 from ..geometry.fill import (cut_to_period, estimated_sites, moved_sites, part_lattice, parts_of, placed_sites,
                              resolve_files)
@@ -140,6 +141,9 @@ def check(values):
         if f"{phase}.density" in values and role not in roles:
             raise SceneError(f"parts: every {role} part is left out (its `when`), yet the scene lists one and has its "
                              f"'{phase}' section; allowed: a {role} part in the scene, or when: false written as such")
+    for part in parts:
+        if part.role == "water":
+            _check_standing_wave(part, values)
     gates = [p for p in parts if p.role == "gate"]
     if len({(p.keys["release"], tuple(p.keys["lift_velocity"]) if p.keys["release"] == "lifted" else ())
             for p in gates}) > 1:
@@ -169,6 +173,22 @@ def check(values):
                 raise SceneError(f"probes.{name}.kind = 'force': the scene has no water part; allowed: a force probe "
                                  f"on a scene with water")
     check_judges(values, set(declared_columns(values)) | set(RUN_COLUMNS))
+
+
+def _check_standing_wave(part, values):
+    """SceneError for a water part's standing wave without its length, or under gravity not straight down (linear
+    theory's wave stands on a level floor under g along -z)."""
+    if part.keys["standing_wave_amplitude"] == 0.0:
+        return
+    if part.keys["standing_wave_length"] == 0.0:
+        raise SceneError(f"{part.key('standing_wave_length')} = 0: a standing wave of amplitude "
+                         f"{part.keys['standing_wave_amplitude']:g} m needs its length; allowed: a length > 0 m (or "
+                         f"{part.key('standing_wave_amplitude')} = 0: none)")
+    g = np.asarray(values["scene.gravity"], dtype=np.float64)
+    if not (g[2] < 0.0 and g[0] == 0.0 and g[1] == 0.0):
+        raise SceneError(f"{part.key('standing_wave_amplitude')} = {part.keys['standing_wave_amplitude']:g} m: "
+                         f"scene.gravity = {plain(g)} is not straight down; allowed: a standing wave under gravity "
+                         f"along -z (or standing_wave_amplitude = 0: none)")
 
 
 def _check_period(values):
@@ -453,6 +473,10 @@ def build(values):
             built.fluid.vel[offset:offset + len(pos)] = np.asarray(part.keys["velocity"])
             index[part.name] = ("fluid", np.arange(offset, offset + len(pos)))
             offset += len(pos)
+        for part, placed_water in water:
+            wave = _standing_wave(part, placed_water, values, built.warnings)
+            if wave is not None:
+                built.fluid_start.append((index[part.name][1], wave))
     rho0 = values.get("fluid.density", 1000.0)
     fixed = [(p, pos) for (p, _), pos in zip(walls, wall_pos) if p.role == "wall"]
     released = [(p, pos) for (p, _), pos in zip(walls, wall_pos) if p.role == "gate"]
@@ -495,6 +519,34 @@ def build(values):
     if case is not None and case.relaxation is not None:
         built.damping_rate, built.fluid_damping_rate = case.relaxation(values, built)
     return built
+
+
+def _standing_wave(part, placed, values, warnings):
+    """The water part's standing wave (answers/linear_waves.StandingWave) from its standing_wave_* keys, over its
+    sites' floor and whole layers (its depth d, as the column was built), or None without one. SceneError if the
+    amplitude reaches the floor; a warning where the field is not a mode of the water along x (the period, or the
+    part's length between walls, not a whole number of wavelengths, or of half wavelengths)."""
+    amplitude = part.keys["standing_wave_amplitude"]
+    if amplitude == 0.0:
+        return None
+    dp = values["numerics.spacing"]
+    depth = (int(placed.sites[:, 2].max()) - int(placed.sites[:, 2].min()) + 1) * dp
+    if amplitude >= depth:
+        raise SceneError(f"{part.key('standing_wave_amplitude')} = {amplitude:g} m: not below the water's depth "
+                         f"{depth:g} m, so its troughs would reach the floor; allowed: a small amplitude (linear "
+                         f"theory's: a few per cent of the depth)")
+    length = part.keys["standing_wave_length"]
+    period = values["geometry.period"][0]
+    across = period if period > 0.0 else (int(np.ptp(placed.sites[:, 0])) + 1) * dp
+    unit = length if period > 0.0 else 0.5 * length
+    if abs(across / unit - round(across / unit)) > 1e-6 * max(across / unit, 1.0):
+        warnings.append(f"{part.key('standing_wave_length')} = {length:g} m: the water's "
+                        + (f"period along x, {period:g} m, is not a whole number of wavelengths"
+                           if period > 0.0 else f"length along x, {across:g} m, is not a whole number of half "
+                                                f"wavelengths")
+                        + ": the standing wave started is not a mode of the water, and others start with it")
+    return StandingWave(amplitude, length, depth, float(placed.floor()), part.keys["standing_wave_antinode"],
+                        float(np.linalg.norm(values["scene.gravity"])))
 
 
 def _supports(built):

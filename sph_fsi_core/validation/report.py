@@ -48,7 +48,7 @@ def measured_against(s, judge=""):
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
     elif judge is not None:
-        if judge.get("kind") in ("mean", "frequency", "swing") and judge.get("measured") is not None:
+        if judge.get("kind") in ("mean", "frequency", "swing", "decay") and judge.get("measured") is not None:
             measured, ref, _ = _judge_cells(judge)       # a scalar against an exact value or a scale
         else:
             measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
@@ -65,13 +65,20 @@ def measured_against(s, judge=""):
 
 
 def _judge_cells(j):
-    """A scalar judge's cells: a swing as its spread (and mean) against its scale, a mean or frequency against its
-    exact value."""
+    """A scalar judge's cells: a swing as its spread (and mean) against its scale, a decay as the amplitude lost
+    per period (and the period) against the loss expected, a frequency (and its period) or a mean against its exact
+    value."""
     if j.get("measured") is None:
         return "-", f"{j['reference']:.4g}", "-"
     if j["kind"] == "swing":
         return (f"{j['column']} swing {j['measured']:.4g} (mean {j['mean']:.4g})", f"scale {j['reference']:.4g}",
                 f"{100 * j['error']:.2f} %")
+    if j["kind"] == "decay":
+        return (f"{j['column']} loses {100 * j['measured']:.2f} % a period ({j['period_s']:.4g} s)",
+                f"{100 * j['reference']:.2f} % a period", f"{100 * j['error_signed']:+.2f} %")
+    if j["kind"] == "frequency":
+        return (f"{j['column']} {j['measured']:.4g} Hz (period {1 / j['measured']:.4g} s)",
+                f"{j['reference']:.4g} Hz ({1 / j['reference']:.4g} s)", f"{100 * j['error_signed']:+.2f} %")
     return f"{j['column']} {j['measured']:.4g}", f"{j['reference']:.4g}", f"{100 * j['error_signed']:+.2f} %"
 
 
@@ -333,7 +340,9 @@ def write_default_report(out_dir, rungs, summaries):
         f"![error against wall time]({figure})", "",
         "Errors: the frequency's and the deflections' signed (+: softer than the reference), the fronts' and "
         "Antoci's gate's an RMS over the record, SPHERIC test 2's the first judge's (H2's RMS over 0-6 s, in m "
-        "over the measured range); the paper's gate has no measurement, so its rungs are held to the finest one.",
+        "over the measured range), the standing wave's frequency signed (+: faster than linear theory) and its "
+        "loss the fraction of its amplitude lost a period; the paper's gate has no measurement, so its rungs are "
+        "held to the finest one.",
     ]
     for case in cases.CASES:
         if hasattr(case, "table"):

@@ -31,7 +31,7 @@ SECTIONS = (default_solid, default_fluid, spheric2, default_coupled, cantilever,
             volumetric_gradient, gate_span, antoci_stiffness, pressure_tolerance, partial_iteration)
 
 # Names that select several cases at once.
-CASE_GROUPS = {"gate": ("antoci_gate", "elastic_gate")}
+CASE_GROUPS = {"gate": ("antoci_gate", "elastic_gate"), "standing_wave": ("standing_wave", "standing_wave_loss")}
 
 
 def all_rungs(studies=False):

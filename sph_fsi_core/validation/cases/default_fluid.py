@@ -10,6 +10,9 @@ one, has its own module, spheric2.py).
                   the measured speed, the water settled behind it): the front against the measured median, T >= 1
     box_push      a box pushed into water at rest (a wall that moves: parts.box.motion), 10 mm: the level's rise
                   against the volume it displaces (config/box_pushed_into_tank.yaml)
+    standing_wave a small standing wave in a periodic slab, d / dp 20 and 40 (config/standing_wave.yaml): its period
+                  at an antinode (as a frequency) against linear theory's omega^2 = g k tanh(k d) over five periods
+    standing_wave_loss  the same runs: the fraction of its amplitude lost per period (none in linear theory)
 
 Each rung runs the scene's defaults but for the spacing (and the tank's step at its finer rung, as the fluid's step
 must shrink with dp there: docs/method.md).
@@ -21,6 +24,8 @@ TANK_DEPTH = 0.1                 # m (config/hydrostatic.yaml)
 COLUMN_WIDTH = 0.05715           # m, a (config/dam_break.yaml)
 LOBOVSKY_HEIGHT = 0.6            # m, H (config/lobovsky_dam_break.yaml)
 BOX_RISE = 0.05                  # m, the level's rise (config/box_pushed_into_tank.yaml's geometry.rise)
+WAVE_DEPTH = 0.1                 # m, d (config/standing_wave.yaml)
+WAVE_END = 3.7                   # s: five periods of linear theory's 0.73 s
 # s: the water at rest stepped as in a coupled run (the coupled rungs' fluid steps: Antoci's gate 0.11-0.2 ms, the
 # paper's 0.25 ms, Antoci's gate at rest 1 ms), where gravity's g dt^2 per step is well inside the tolerance
 REST_STEP = 0.0005
@@ -33,6 +38,10 @@ MEASURES = {
     "lobovsky": ("surge front, RMS over T >= 1", "Lobovsky et al. 2014, median of 100 repeats "
                                                  "(reference_data/lobovsky2014_front_H600.csv)"),
     "box_push": ("level's rise, a box pushed in", "the volume it displaces (exact)"),
+    "standing_wave": ("a standing wave's frequency (1 / period) at an antinode, five periods",
+                      "linear theory, omega^2 = g k tanh(k d), k d = 1 (exact for a small wave)"),
+    "standing_wave_loss": ("the same wave's amplitude lost per period", "linear theory: none (the viscosity's "
+                                                                          "1.5e-4 aside)"),
 }
 
 
@@ -58,4 +67,9 @@ def rungs():
     out += [Rung("box_push", "dp_10mm", "box_pushed_into_tank", {"numerics.spacing": 0.01}, end_time=5.0,
                  resolution=f"rise/dp {round(BOX_RISE / 0.01)}", bound=0.01,
                  note="dp = 10 mm; the level's mean rise over the last 1.5 s against b (d - z_b) / (L - b)")]
+    out += [Rung(case, f"d_over_dp_{n}", "standing_wave", {"numerics.spacing": WAVE_DEPTH / n}, end_time=WAVE_END,
+                 resolution=f"d/dp {n}", judge=judge, note=f"d / dp = {n}; {what} at the antinode x = 0")
+            for case, judge, what in (("standing_wave", "period", "the period"),
+                                      ("standing_wave_loss", "loss", "the amplitude lost per period"))
+            for n in (20, 40)]
     return out
