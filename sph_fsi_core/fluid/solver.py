@@ -239,7 +239,7 @@ class FluidSolver:
         fl = self.fluid
         gx, gy, gz = self.gravity
         energy_before = sum(mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz))
-        gravity_and_predictor(fl.pos, fl.vel, dt, self.gravity[0], self.gravity[1], self.gravity[2], self.pos_old)
+        gravity_and_predictor(fl.pos, fl.vel, dt, gx, gy, gz, self.pos_old)
         fl.correction_displacement[:] = 0.0
         fl.pressure[:] = 0.0
         c = self.correction_c(dt)

@@ -104,7 +104,7 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last
         err = emean if prm.on_mean else emax
         if it >= prm.min_iterations and err <= prm.tolerance:
             err_before = before[1] if prm.on_mean else before[0]
-            if partial and err_before > prm.tolerance and err_before > err:
+            if partial and err_before > prm.tolerance:      # then err_before > tol >= err
                 kept = (err_before - prm.tolerance) / (err_before - err)
                 undo_part(pos, work.disp, fluid.correction_displacement, fluid.pressure, last_p, 1.0 - kept)
                 emax = before[0] + kept * (emax - before[0])
