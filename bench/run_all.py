@@ -6,7 +6,8 @@ from pathlib import Path
 
 from sph_fsi_core.run import machine_info
 
-from . import compile_time, fluid_throughput, main_job, publishing_cost, recording_cost, shared_host, solid_throughput
+from . import (compile_time, fluid_throughput, main_job, publishing_cost, recording_cost, shared_host, solid_throughput,
+               thread_scaling)
 
 
 def main(argv=None):
@@ -54,6 +55,8 @@ def main(argv=None):
                      f"{r['steps']} | "
                      f"{r['iterations_per_step']} | {r['seconds']} | {r['particle_iterations_per_second'] / 1e6:.3f} | "
                      f"{r['particle_steps_per_second'] / 1e6:.3f} | {r['threads']} | {r['load_average']:.1f} |")
+    scaling = thread_scaling.main([])
+    lines += ["", "## Two threads, pass by pass", "", thread_scaling.markdown(scaling)]
     job = main_job.main(["--full"])
     lines += ["", "## The main job: the paper's gate at 1 mm", "", main_job.markdown(job["ref"], job["result"], job["full"])]
     rec = recording_cost.main([])

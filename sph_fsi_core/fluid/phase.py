@@ -266,6 +266,12 @@ class FluidPhase:
         f = self.fluid
         return float(0.5 * (f.mass * (f.vel ** 2).sum(axis=1)).sum())
 
+    def mean_velocity(self):
+        """The water's momentum over its mass (m/s, (3,)): what a wall that takes no force along itself keeps."""
+        f = self.fluid
+        total = float(f.mass.sum())
+        return (f.mass @ f.vel) / total if total > 0.0 else np.zeros(3)
+
     def filling_particles(self):
         """(water positions, water volumes m / rho, wall positions, wall volumes m / rho0): what fills the kernel of
         a water-height probe (probes.py); the walls as the water sees them (a gate while it stands, the solid in a
@@ -278,10 +284,12 @@ class FluidPhase:
         statistics (before any: the start's density error); and the water's energy budget since t = 0 (J): its
         potential energy's change, and what the corrections and the viscous term took (with the kinetic energy,
         fluid_kinetic_energy, they sum to the kinetic energy at t = 0 but for the water held after leaving the domain
-        and a static case's relaxation)."""
+        and a static case's relaxation); and its mean velocity (mean_velocity)."""
         stats = self.interval or {"iterations_mean": 0.0, "iterations_max": 0,
                                   "density_error_max": self.last_error_max,
                                   "density_error_mean": self.last_error_mean, "capped_steps": 0}
         return {"fluid_dt": self.last_dt, "fluid_substeps": self.last_substeps, **stats,
                 "fluid_potential_energy": self.energies()[1] - self.potential_at_start,
-                "fluid_correction_loss": self.correction_loss, "fluid_viscous_loss": self.viscous_loss}
+                "fluid_correction_loss": self.correction_loss, "fluid_viscous_loss": self.viscous_loss,
+                **dict(zip(("fluid_velocity_x", "fluid_velocity_y", "fluid_velocity_z"),
+                           (float(u) for u in self.mean_velocity())))}

@@ -13,6 +13,8 @@ one, has its own module, spheric2.py).
     standing_wave a small standing wave in a periodic slab, d / dp 20 and 40 (config/standing_wave.yaml): its period
                   at an antinode (as a frequency) against linear theory's omega^2 = g k tanh(k d) over five periods
     standing_wave_loss  the same runs: the fraction of its amplitude lost per period (none in linear theory)
+    sliding_water water sliding as one at 0.04 m/s along a free-slip floor, d / dp 20 and 40
+                  (config/sliding_water.yaml): its mean velocity over the last half of 0.5 s against the start's
 
 Each rung runs the scene's defaults but for the spacing (and the tank's step at its finer rung, as the fluid's step
 must shrink with dp there: docs/method.md).
@@ -26,6 +28,7 @@ LOBOVSKY_HEIGHT = 0.6            # m, H (config/lobovsky_dam_break.yaml)
 BOX_RISE = 0.05                  # m, the level's rise (config/box_pushed_into_tank.yaml's geometry.rise)
 WAVE_DEPTH = 0.1                 # m, d (config/standing_wave.yaml)
 WAVE_END = 3.7                   # s: five periods of linear theory's 0.73 s
+SLIDE_DEPTH = 0.1                # m, d (config/sliding_water.yaml)
 # s: the water at rest stepped as in a coupled run (the coupled rungs' fluid steps: Antoci's gate 0.11-0.2 ms, the
 # paper's 0.25 ms, Antoci's gate at rest 1 ms), where gravity's g dt^2 per step is well inside the tolerance
 REST_STEP = 0.0005
@@ -42,6 +45,8 @@ MEASURES = {
                       "linear theory, omega^2 = g k tanh(k d), k d = 1 (exact for a small wave)"),
     "standing_wave_loss": ("the same wave's amplitude lost per period", "linear theory: none (the viscosity's "
                                                                           "1.5e-4 aside)"),
+    "sliding_water": ("water sliding along a free-slip floor at 0.04 m/s: its mean velocity, 0.25-0.5 s",
+                      "the start's (exact: nothing takes its momentum along the floor)"),
 }
 
 
@@ -71,5 +76,9 @@ def rungs():
                  resolution=f"d/dp {n}", judge=judge, note=f"d / dp = {n}; {what} at the antinode x = 0")
             for case, judge, what in (("standing_wave", "period", "the period"),
                                       ("standing_wave_loss", "loss", "the amplitude lost per period"))
+            for n in (20, 40)]
+    out += [Rung("sliding_water", f"d_over_dp_{n}", "sliding_water", {"numerics.spacing": SLIDE_DEPTH / n},
+                 end_time=0.5, resolution=f"d/dp {n}", judge="speed",
+                 note=f"d / dp = {n}; the water's mean velocity along the floor against the start's")
             for n in (20, 40)]
     return out
