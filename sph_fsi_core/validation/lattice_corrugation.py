@@ -13,22 +13,18 @@ is nearly zero near h / dp = 1.25 and 1.5 for the M4 spline along a lattice axis
 """
 import numpy as np
 
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H
-
-
-def _m4(q):
-    """The M4 spline's w(q) (numerics/kernels.py) on an array."""
-    return 0.25 * np.clip(2.0 - q, 0.0, None) ** 3 - np.clip(1.0 - q, 0.0, None) ** 3
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
 
 
 def half_space_share(ratio, shift):
     """S(s) of the module docstring for h / dp = `ratio` and the shift `shift` (3,) in spacings (along the plane:
-    its z is 0): the half-space's share of the particle's density, over rho0."""
+    its z is 0): the half-space's share of the particle's density, over rho0 (dp = 1 here, as
+    numerics.kernels.lattice_kernel_sum's full lattice)."""
     reach = int(np.ceil(SUPPORT_RADIUS_IN_H * ratio)) + 1
     g = np.arange(-reach, reach + 1, dtype=np.float64)
     x, y, z = np.meshgrid(g, g, -np.arange(1, reach + 1, dtype=np.float64), indexing="ij")
     r = np.sqrt((x - shift[0]) ** 2 + (y - shift[1]) ** 2 + (z - shift[2]) ** 2)
-    return float(_m4(r / ratio).sum() / (np.pi * ratio ** 3))
+    return float(sum(cubic_spline_w(d, ratio) for d in r.ravel()))
 
 
 def corrugation(ratio, direction=(1.0, 0.0, 0.0), samples=21):
