@@ -5,12 +5,15 @@ viscosity (1e-6 m^2/s) takes exp(-4 nu k^2 t) = 0.6 % of the kinetic energy in a
 method's. Prints the kinetic energy over the start's and the vortex's amplitude (the velocity projected on the
 field at the particles' positions, over U) every 0.2 s.
 
-    python docs/validation/studies/water_lattice/taylor_green.py [H_OVER_DP [U [JITTER]]]   (about 30 s a run)
+    python docs/validation/studies/water_lattice/taylor_green.py [H_OVER_DP [U [JITTER [SHIFT]]]]   (about 30 s a run)
+
+SHIFT: A of particle_shifting.py (0: none), on from the start (the disordered water's relaxation included).
 """
 import math
 import sys
 
 import numpy as np
+from particle_shifting import install
 
 from sph_fsi_core.fluid.solver import FluidSolver
 from sph_fsi_core.numerics.kernels import lattice_density_scale
@@ -19,6 +22,7 @@ from sph_fsi_core.state import FluidState
 ratio = float(sys.argv[1]) if len(sys.argv) > 1 else 1.3
 speed = float(sys.argv[2]) if len(sys.argv) > 2 else 0.04
 jitter = float(sys.argv[3]) if len(sys.argv) > 3 else 0.0
+shift = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
 dp, n, dt = 0.005, 32, 0.005
 across = 6 if ratio < 1.4 else 7
 axes = [(np.arange(m) + 0.5) * dp for m in (n, across, n)]
@@ -30,6 +34,7 @@ period = np.array([n * dp, across * dp, n * dp])
 solver = FluidSolver(water, None, ratio * dp, period, np.zeros(3), period, 0.1 * ratio * dp)
 solver.configure(rho0=1000.0, nu=1.0e-6, gravity=(0.0, 0.0, 0.0), tolerance=0.01, tolerance_on="max",
                  coefficient=0.0, kappa=1.0, min_iterations=0, max_iterations=200)
+install(shift, dp, free_surface=False)
 k = 2.0 * math.pi / (n * dp)
 if jitter:   # the disordered water relaxed at rest first
     for _ in range(100):
@@ -54,5 +59,5 @@ for step in range(1, 201):
         amplitude = (water.vel[:, 0] * ux + water.vel[:, 2] * uz).sum() / (ux * ux + uz * uz).sum() / speed
         kinetic = 0.5 * (water.mass * (water.vel ** 2).sum(axis=1)).sum()
         rows.append(f"{step * dt:.1f} s: {kinetic / k0:.3f} / {amplitude:+.3f}")
-print(f"h/dp {ratio:g}, U {speed:g} m/s, jitter {jitter:g} dp: kinetic energy / start, amplitude / U: "
+print(f"h/dp {ratio:g}, U {speed:g} m/s, jitter {jitter:g} dp, shift {shift:g}: kinetic energy / start, amplitude / U: "
       + "; ".join(rows))
