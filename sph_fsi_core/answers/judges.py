@@ -17,10 +17,17 @@
                (answers/oscillation.amplitude_loss_per_period: the half-cycle extremes' amplitudes fitted
                log-linear in time, over the period measured as a frequency judge measures it), against `reference`
                (default 0: an inviscid answer loses none, so the error is the loss itself)
+    impulse    the water's momentum (`column`, a fluid_momentum_ column) against the impulse of the force columns
+               `forces` (the water's force on each wall it touches, along the same axis): by Newton's third law the
+               water gains what the walls lose, so at every sample in [from, to] its change since `from` should be
+               minus the forces' impulse since then (each force sample the mean over the interval it closes, so the
+               impulse is the sum of samples times intervals); the error is the largest imbalance over the largest
+               impulse
 
 Each judge reports its measures, its error (relative: to the reference for a frequency and a mean; for a series the
 RMS over the measured series' range in the window, the RMS itself in the column's unit beside it; for a swing the
-standard deviation over the reference; for a decay the loss less the reference, a fraction per period) and, where
+standard deviation over the reference; for a decay the loss less the reference, a fraction per period; for an
+impulse the largest imbalance over the largest impulse) and, where
 the scene sets a tolerance, a `check_<judge>...` flag. The summary's `error` is the first judge's.
 A measurement file is a CSV with '#' comment lines and a header row, time (s) in its first column; a path relative to
 the scene file, or `reference_data:<name>` for the package's copies (answers/reference_data, with their sources).
@@ -92,6 +99,12 @@ def check_judges(values, columns):
         if keys["column"] not in columns:
             raise SceneError(f"judge.{name}.column = {keys['column']!r}: not a column this scene writes; allowed: one "
                              f"of " + ", ".join(sorted(columns)))
+        if keys["kind"] == "impulse":
+            for force in force_columns(keys["forces"]):
+                if force not in columns:
+                    raise SceneError(f"judge.{name}.forces names {force!r}: not a column this scene writes; allowed: "
+                                     f"force probes' columns, one of " + ", ".join(sorted(c for c in columns if
+                                                                                   c[-3:-1] == "_f")))
         if keys["kind"] == "series":
             data = read_measurement(keys["file"], f"judge.{name}.file")
             if keys["file_column"] not in data:
@@ -211,6 +224,39 @@ def judge_decay(series, keys):
     return out
 
 
+def force_columns(text):
+    """The column names of an impulse judge's `forces` (comma-separated)."""
+    return [c.strip() for c in text.split(",") if c.strip()]
+
+
+def judge_impulse(series, keys):
+    """An 'impulse' judge's measures (module docstring): the water's change of momentum and the forces' impulse at
+    the window's end, and the largest imbalance between them over the window, against the largest impulse."""
+    t = np.asarray(series["time"], dtype=np.float64)
+    start, end = _window(t, keys)
+    use = (t >= start) & (t <= end)
+    momentum = np.asarray(series[keys["column"]], dtype=np.float64)[use]
+    force = sum(np.asarray(series[c], dtype=np.float64) for c in force_columns(keys["forces"]))[use]
+    times = t[use]
+    if len(times) < 2:
+        return {"measured": None, "reference": None, "error_signed": None, "error": None, "from_s": start,
+                "to_s": end, "note": "not measured: fewer than two samples in the window"}
+    # the sample at t_i is the force's mean over (t_i-1, t_i]: the window's first sample closes an interval before it
+    impulse = np.concatenate([[0.0], np.cumsum(force[1:] * np.diff(times))])
+    gained = momentum - momentum[0]
+    imbalance = gained + impulse
+    largest = float(np.abs(impulse).max())
+    worst = int(np.argmax(np.abs(imbalance)))
+    error = float(abs(imbalance[worst])) / largest if largest > 0.0 else None
+    out = {"measured": float(gained[-1]), "reference": float(-impulse[-1]), "error_signed": error, "error": error,
+           "largest_impulse": largest, "largest_imbalance": float(imbalance[worst]),
+           "largest_imbalance_at_s": float(times[worst]), "samples": int(len(times)), "from_s": start, "to_s": end}
+    if keys["tolerance"] > 0.0:
+        out["tolerance"] = keys["tolerance"]
+        out["check_error"] = error is not None and error <= keys["tolerance"]
+    return out
+
+
 def judge_scalar(series, keys):
     """A 'frequency', 'mean' or 'swing' judge's measures."""
     t = np.asarray(series["time"], dtype=np.float64)
@@ -260,7 +306,8 @@ def evaluate_judges(series, values):
     judges = {}
     checks = {}
     for name, keys in list_entries(values, "judge").items():
-        judge = {"series": judge_series, "decay": judge_decay}.get(keys["kind"], judge_scalar)
+        judge = {"series": judge_series, "decay": judge_decay, "impulse": judge_impulse}.get(keys["kind"],
+                                                                                            judge_scalar)
         result = judge(series, keys)
         result = {"kind": keys["kind"], "column": keys["column"], "source": keys["source"], **result}
         judges[name] = result
@@ -271,7 +318,8 @@ def evaluate_judges(series, values):
         what = {"frequency": "relative error of the frequency", "mean": "relative error of the mean",
                 "series": "RMS difference from the measured series over its range",
                 "swing": "standard deviation over the reference",
-                "decay": "loss per period (a fraction of the amplitude, less the reference)"}[result["kind"]]
+                "decay": "loss per period (a fraction of the amplitude, less the reference)",
+                "impulse": "largest imbalance of momentum and impulse over the largest impulse"}[result["kind"]]
         out["error"] = result.get("error")
         out["error_metric"] = f"{what} of {result['column']} (judge '{first}'" + (
             f", {result['source']})" if result["source"] else ")")

@@ -272,6 +272,11 @@ class FluidPhase:
         total = float(f.mass.sum())
         return (f.mass @ f.vel) / total if total > 0.0 else np.zeros(3)
 
+    def momentum(self):
+        """The water's momentum (N s, (3,)): what the walls' forces change (an impulse judge's column)."""
+        f = self.fluid
+        return f.mass @ f.vel
+
     def filling_particles(self):
         """(water positions, water volumes m / rho, wall positions, wall volumes m / rho0): what fills the kernel of
         a water-height probe (probes.py); the walls as the water sees them (a gate while it stands, the solid in a
@@ -284,7 +289,7 @@ class FluidPhase:
         statistics (before any: the start's density error); and the water's energy budget since t = 0 (J): its
         potential energy's change, and what the corrections and the viscous term took (with the kinetic energy,
         fluid_kinetic_energy, they sum to the kinetic energy at t = 0 but for the water held after leaving the domain
-        and a static case's relaxation); and its mean velocity (mean_velocity)."""
+        and a static case's relaxation); its mean velocity (mean_velocity) and its momentum (momentum)."""
         stats = self.interval or {"iterations_mean": 0.0, "iterations_max": 0,
                                   "density_error_max": self.last_error_max,
                                   "density_error_mean": self.last_error_mean, "capped_steps": 0}
@@ -292,4 +297,6 @@ class FluidPhase:
                 "fluid_potential_energy": self.energies()[1] - self.potential_at_start,
                 "fluid_correction_loss": self.correction_loss, "fluid_viscous_loss": self.viscous_loss,
                 **dict(zip(("fluid_velocity_x", "fluid_velocity_y", "fluid_velocity_z"),
-                           (float(u) for u in self.mean_velocity())))}
+                           (float(u) for u in self.mean_velocity()))),
+                **dict(zip(("fluid_momentum_x", "fluid_momentum_y", "fluid_momentum_z"),
+                           (float(u) for u in self.momentum())))}

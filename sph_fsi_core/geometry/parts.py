@@ -25,7 +25,7 @@ SHAPES = ("box", "cylinder", "sphere", "mesh")
 FACES = ("-x", "+x", "-y", "+y", "-z", "+z")
 PROBE_KINDS = ("point", "displacement", "pressure", "water_height", "force")
 AXES = ("x", "y", "z")
-JUDGE_KINDS = ("frequency", "mean", "series", "swing", "decay")
+JUDGE_KINDS = ("frequency", "mean", "series", "swing", "decay", "impulse")
 MOTIONS = ("none", "linear", "sinusoid", "table", "ros")
 REQUIRED = None    # a Param default meaning "must be given"
 
@@ -221,7 +221,8 @@ def _every_judge(k):
     return [_p(k + "kind", REQUIRED, "", "How a time-series column is judged: 'frequency' (its dominant frequency "
                "against reference), 'mean' (its mean over [from, to] against reference), 'series' (against a "
                "measured series in a CSV file), 'swing' (its standard deviation over [from, to] as a fraction of "
-               "reference), 'decay' (the fraction of its oscillation's amplitude lost per period)", kind="str",
+               "reference), 'decay' (the fraction of its oscillation's amplitude lost per period), 'impulse' (the "
+               "water's change of momentum against the impulse of the walls' forces on it)", kind="str",
                choices=JUDGE_KINDS),
             _p(k + "column", REQUIRED, "", "The timeseries.csv column judged (a probe's, e.g. 'tip_dz', 'P1', 'H2')",
                kind="str"),
@@ -267,6 +268,14 @@ def _judge_decay(k):
                low=0.0, high=1.0)]
 
 
+def _judge_impulse(k):
+    return [_p(k + "forces", REQUIRED, "", "The force probes' columns along the column's axis whose impulse the "
+               "water's momentum (column: a fluid_momentum_ column) must balance, comma-separated (e.g. "
+               "'box_fx, floor_fx'): every wall the water touches, along an axis gravity does not act on", kind="str"),
+            _p(k + "tolerance", 0.0, "1", "Largest imbalance allowed, as a fraction of the largest impulse (0: "
+               "reported, not checked)", low=0.0, high=10.0)]
+
+
 # Which entries have which keys, in the order an entry's keys are declared: (the entries, as the reference names
 # them; the roles and shapes (parts) or kinds (probes, judges) that have them; their declarations).
 PART_GROUPS = (("every part", ROLES, SHAPES, _every_part),
@@ -294,7 +303,8 @@ PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
                 ("kind frequency, mean or swing", ("frequency", "mean", "swing"), _judge_reference),
                 ("kind series", ("series",), _judge_series),
-                ("kind decay", ("decay",), _judge_decay))
+                ("kind decay", ("decay",), _judge_decay),
+                ("kind impulse", ("impulse",), _judge_impulse))
 
 
 def part_params(name, role, shape, motion="none"):

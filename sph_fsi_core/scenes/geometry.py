@@ -87,7 +87,8 @@ DEFAULTS = {"scene.gravity": (0.0, 0.0, -9.81), "scene.end_time": 1.0, "output.t
 # time-series columns a judge may name besides the probes' (simulation.Simulation.sample)
 RUN_COLUMNS = ("time", "kinetic_energy", "strain_energy", "fluid_kinetic_energy", "coupling_force_x",
                "coupling_force_y", "coupling_force_z", "iterations_mean", "density_error_max", "density_error_mean",
-               "fluid_velocity_x", "fluid_velocity_y", "fluid_velocity_z")
+               "fluid_velocity_x", "fluid_velocity_y", "fluid_velocity_z", "fluid_momentum_x", "fluid_momentum_y",
+               "fluid_momentum_z")
 
 
 # a reading of each probe kind with every quantity, for the names of its columns (probes.probe_columns)

@@ -9,6 +9,8 @@ from pathlib import Path
 from . import cases
 from .report_tools import fmt
 from .rung import rung_error
+# judges whose single measure a row shows against its reference (_judge_cells)
+SCALAR_JUDGES = ("mean", "frequency", "swing", "decay", "impulse")
 
 
 def measured_against(s, judge=""):
@@ -48,7 +50,7 @@ def measured_against(s, judge=""):
         measured = f"tip dx peak {1e3 * s['tip_dx_peak_m']:.2f} mm at {s['tip_dx_peak_time_s']:.3f} s"
         ref = "paper: peak at 0.06-0.08 s"
     elif judge is not None:
-        if judge.get("kind") in ("mean", "frequency", "swing", "decay") and judge.get("measured") is not None:
+        if judge.get("kind") in SCALAR_JUDGES and judge.get("measured") is not None:
             measured, ref, _ = _judge_cells(judge)       # a scalar against an exact value or a scale
         else:
             measured = ", ".join(f"{name} {100 * j['error']:.1f} %" for name, j in s["judges"].items()
@@ -66,8 +68,8 @@ def measured_against(s, judge=""):
 
 def _judge_cells(j):
     """A scalar judge's cells: a swing as its spread (and mean) against its scale, a decay as the amplitude lost
-    per period (and the period) against the loss expected, a frequency (and its period) or a mean against its exact
-    value."""
+    per period (and the period) against the loss expected, an impulse as the water's gain (and its worst imbalance)
+    against the walls' impulse, a frequency (and its period) or a mean against its exact value."""
     if j.get("measured") is None:
         return "-", f"{j['reference']:.4g}", "-"
     if j["kind"] == "swing":
@@ -76,6 +78,10 @@ def _judge_cells(j):
     if j["kind"] == "decay":
         return (f"{j['column']} loses {100 * j['measured']:.2f} % a period ({j['period_s']:.4g} s)",
                 f"{100 * j['reference']:.2f} % a period", f"{100 * j['error_signed']:+.2f} %")
+    if j["kind"] == "impulse":
+        return (f"{j['column']} gains {j['measured']:.4g} N s (worst imbalance {j['largest_imbalance']:+.3g} N s at "
+                f"{j['largest_imbalance_at_s']:.3g} s)", f"the walls' impulse {j['reference']:.4g} N s",
+                f"{100 * j['error']:.2f} %")
     if j["kind"] == "frequency":
         return (f"{j['column']} {j['measured']:.4g} Hz (period {1 / j['measured']:.4g} s)",
                 f"{j['reference']:.4g} Hz ({1 / j['reference']:.4g} s)", f"{100 * j['error_signed']:+.2f} %")

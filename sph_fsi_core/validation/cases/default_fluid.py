@@ -10,6 +10,8 @@ one, has its own module, spheric2.py).
                   the measured speed, the water settled behind it): the front against the measured median, T >= 1
     box_push      a box pushed into water at rest (a wall that moves: parts.box.motion), 10 mm: the level's rise
                   against the volume it displaces (config/box_pushed_into_tank.yaml)
+    impulse_balance  a box moved through still water and stopped, 10 mm (config/box_moved_through_water.yaml): the
+                  water's change of x momentum against minus the x impulse of its force on the box and the floor
     standing_wave a small standing wave in a periodic slab, d / dp 20 and 40 (config/standing_wave.yaml): its period
                   at an antinode (as a frequency) against linear theory's omega^2 = g k tanh(k d) over five periods
     standing_wave_loss  the same runs: the fraction of its amplitude lost per period (none in linear theory)
@@ -41,6 +43,8 @@ MEASURES = {
     "lobovsky": ("surge front, RMS over T >= 1", "Lobovsky et al. 2014, median of 100 repeats "
                                                  "(reference_data/lobovsky2014_front_H600.csv)"),
     "box_push": ("level's rise, a box pushed in", "the volume it displaces (exact)"),
+    "impulse_balance": ("the water's x momentum, a box moved through it and stopped: the largest imbalance",
+                        "minus the walls' x impulse (Newton's third law, exact)"),
     "standing_wave": ("a standing wave's frequency (1 / period) at an antinode, five periods",
                       "linear theory, omega^2 = g k tanh(k d), k d = 1 (exact for a small wave)"),
     "standing_wave_loss": ("the same wave's amplitude lost per period", "linear theory: none (the viscosity's "
@@ -72,6 +76,9 @@ def rungs():
     out += [Rung("box_push", "dp_10mm", "box_pushed_into_tank", {"numerics.spacing": 0.01}, end_time=5.0,
                  resolution=f"rise/dp {round(BOX_RISE / 0.01)}", bound=0.01,
                  note="dp = 10 mm; the level's mean rise over the last 1.5 s against b (d - z_b) / (L - b)")]
+    out += [Rung("impulse_balance", "dp_10mm", "box_moved_through_water", {"numerics.spacing": 0.01}, end_time=0.6,
+                 resolution="d/dp 10", bound=0.06,
+                 note="dp = 10 mm; the water's x momentum against the box's and the floor's x impulse, every 5 ms")]
     out += [Rung(case, f"d_over_dp_{n}", "standing_wave", {"numerics.spacing": WAVE_DEPTH / n}, end_time=WAVE_END,
                  resolution=f"d/dp {n}", judge=judge, note=f"d / dp = {n}; {what} at the antinode x = 0")
             for case, judge, what in (("standing_wave", "period", "the period"),
