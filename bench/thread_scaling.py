@@ -1,6 +1,7 @@
 """Each hot pass's speed-up from one Numba thread to two, in one process (issue 60, item 3).
 
-Two real states, each built and stepped in this process before anything is timed:
+Two real states, each built and stepped in this process before anything is timed (and `host`: loops that tell the
+host's limits, compute alone, memory alone, and the viscous term's gathers alone on the dam break's lists):
 - `fluid`: the dam break at 10^5 fluid particles (bench/fluid_throughput.py's case), stepped until its water moves
   (the lists then rebuilt every step, as after SPHERIC's impact);
 - `solid`: the solid bench's 10^5 beam with the default scheme (bench/solid_throughput.py), after one outer step.
@@ -21,6 +22,7 @@ import time
 
 import numba
 import numpy as np
+from numba import njit, prange
 
 from sph_fsi_core.fluid.energy import mechanical_energy
 from sph_fsi_core.fluid.okaji import (apply_displacement, compression_error, gravity_and_predictor,
@@ -168,6 +170,63 @@ def solid_passes(size="1e5"):
     return [(name, call, keep, serial) for name, call, serial in passes], info
 
 
+@njit(cache=True, parallel=True)
+def _divisions(x, repeats):
+    """Compute alone: `repeats` dependent divisions per element of a small array, no memory traffic."""
+    total = 0.0
+    for i in prange(x.shape[0]):
+        y = x[i]
+        for _ in range(repeats):
+            y = 1.0 / (y + 1.0)
+        total += y
+    return total
+
+
+@njit(cache=True, parallel=True)
+def _stream(x, y, z):
+    """Memory alone: one pass over three long arrays, a multiply-add per element."""
+    total = 0.0
+    for i in prange(x.shape[0]):
+        total += x[i] * y[i] + z[i]
+    return total
+
+
+@njit(cache=True, parallel=True)
+def _gather(start, index, pos, vel, rho, f, out):
+    """The viscous term's reads without its arithmetic: per pair of the half list, the neighbour's position,
+    velocity and density and the pair's F (eight gathered values, one streamed), summed into the target's row."""
+    for a in prange(start.shape[0] - 1):
+        s = 0.0
+        for k in range(start[a], start[a + 1]):
+            b = index[k]
+            s += pos[b, 0] + pos[b, 1] + pos[b, 2] + vel[b, 0] + vel[b, 1] + vel[b, 2] + rho[b] + f[k]
+        out[a] = s
+
+
+def host_passes(steps, size="1e5"):
+    """(name, call, restore, serial) of loops that tell the host's limits: compute alone, memory streamed alone (as
+    long as the dam break's pair arrays at 10^5, 3 x 3.2e7 doubles), and the viscous term's gathers alone on the dam
+    break's own lists at `size` after `steps` outer steps."""
+    spec = load_scene(SCENES["dam_break"], CASES[("dam_break", size)] + ["output.snapshot_interval=0"])
+    sim = Simulation(spec)
+    for _ in range(steps):
+        sim.step()
+    sv = sim.fluid_phase.solver
+    fl = sv.fluid
+    sv.rebuild()
+    nb = sv.neighbours()
+    small = np.linspace(0.5, 1.5, 4096)
+    big = [np.random.default_rng(k).random(32_000_000) for k in range(3)]
+    out = np.zeros(fl.count)
+    none = snapshot()
+    passes = [("compute alone: divisions", lambda: _divisions(small, 20_000), none, False),
+              ("memory alone: a stream of 768 MB", lambda: _stream(*big), none, False),
+              ("the viscous term's gathers alone", lambda: _gather(nb.fluid_start, nb.fluid_index, fl.pos, fl.vel,
+                                                                   fl.rho, sv.f_fluid, out), none, False)]
+    info = {"fluid_particles": int(fl.count), "pairs": int(sv.fluid_neighbours.pairs)}
+    return passes, info
+
+
 def measure(passes, rounds):
     rows = []
     for name, call, restore, serial in passes:
@@ -182,13 +241,15 @@ def measure(passes, rounds):
 def markdown(result):
     """The tables of BENCH.md's "Two threads, pass by pass"."""
     lines = []
-    for case in ("fluid", "solid"):
+    for case in ("fluid", "solid", "host"):
         if case not in result:
             continue
         info = result[case]["info"]
-        what = (f"the dam break at {info['fluid_particles']:,} fluid particles ({info['wall_particles']:,} wall, "
-                f"{info['pairs_per_particle']} pairs each), its water moving" if case == "fluid" else
-                f"the solid bench's beam, {info['solid_particles']:,} particles, the default scheme")
+        what = {"fluid": lambda: f"the dam break at {info['fluid_particles']:,} fluid particles "
+                                 f"({info['wall_particles']:,} wall, {info['pairs_per_particle']} pairs each), its "
+                                 f"water moving",
+                "solid": lambda: f"the solid bench's beam, {info['solid_particles']:,} particles, the default scheme",
+                "host": lambda: f"the host's limits (the gathers on the dam break's {info['pairs']:,} pairs)"}[case]()
         lines += [f"{case.capitalize()}: {what}; median of {result['rounds']} calls each.", "",
                   "| pass | 1 thread [ms] | 2 threads [ms] | speed-up |", "|---|---|---|---|"]
         for row in result[case]["passes"]:
@@ -204,14 +265,16 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rounds", type=int, default=7)
     parser.add_argument("--steps", type=int, default=40, help="the dam break's outer steps before timing")
-    parser.add_argument("--cases", nargs="*", default=["fluid", "solid"])
+    parser.add_argument("--cases", nargs="*", default=["fluid", "solid"], choices=["fluid", "solid", "host"])
     parser.add_argument("--size", default="1e5", choices=["1e4", "1e5"], help="particles of each state")
     args = parser.parse_args(argv)
     if numba.config.NUMBA_NUM_THREADS < 2:
         raise SystemExit("thread_scaling: needs 2 Numba threads (NUMBA_NUM_THREADS)")
     result = {"rounds": args.rounds, "load_average_before": os.getloadavg()[0]}
     for case in args.cases:
-        passes, info = fluid_passes(args.steps, args.size) if case == "fluid" else solid_passes(args.size)
+        make = {"fluid": lambda: fluid_passes(args.steps, args.size), "solid": lambda: solid_passes(args.size),
+                "host": lambda: host_passes(args.steps, args.size)}[case]
+        passes, info = make()
         print(f"{case}: {info}; median of {args.rounds} calls at 1 and 2 threads", flush=True)
         result[case] = {"info": info, "passes": measure(passes, args.rounds)}
     result["load_average_after"] = os.getloadavg()[0]
