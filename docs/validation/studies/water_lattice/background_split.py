@@ -1,0 +1,157 @@
+"""The study's experiment on the symmetric pressure gradient's background part (docs/validation/OPEN.md 7): eq. (2)'s
+pair term m_b (q_a + q_b) grad_a W_ab (q = p / rho^2) is the difference form's m_b (q_b - q_a) grad_a W_ab, which a
+uniform pressure leaves without force, plus m_b 2 q_a grad_a W_ab, which on a disordered arrangement pushes a
+particle by its own pressure times the arrangement's error: under the column's weight that part is large. Here the
+correction still moves the particles by the whole term (so the water is held up and kept in order as before), but
+SHARE of the background part's displacement, summed over the step's iterations (fluid and wall pairs), is kept out
+of the velocity (as the transport-velocity formulation keeps its background pressure out of the momentum, Adami,
+Hu & Adams 2013); with SMOOTH the velocity's correction is also replaced by its kernel (Shepard) average, which
+takes the difference form's particle-scale noise out. No scene key does this: it wraps the fluid solver for the
+script it runs.
+
+    python docs/validation/studies/water_lattice/background_split.py SHARE SMOOTH SCRIPT [ARGS ...]
+    (e.g. 1 1 cell_flow.py 1.5 9.81 0.1; SCRIPT one of the study's scripts; 2-3 times the script's time)
+
+SCRIPT may also be a scene file (ARGS its KEY=VALUE overrides): it is run headless and its judges printed with the
+water's kinetic energy (mJ) every 0.1 s, to show where a run turns to noise.
+"""
+import os
+import runpy
+import sys
+
+import numpy as np
+from numba import njit
+from scipy.spatial import cKDTree
+
+import sph_fsi_core.fluid.solver as solver_module
+from sph_fsi_core.fluid.okaji import apply_displacement, compression_error, pressure_displacement, summation_density
+from sph_fsi_core.fluid.okaji import wall_pressure
+from sph_fsi_core.fluid.stepper import CAPPED, CONVERGED, NEEDS_REBUILD
+from sph_fsi_core.numerics.kernels import cubic_spline_w
+
+SHARE, SMOOTH = float(sys.argv[1]), float(sys.argv[2])
+
+
+@njit(cache=True)
+def _minimum_image(d, period):
+    return d - period * round(d / period) if period > 0.0 else d
+
+
+@njit(cache=True)
+def background_displacement(pos, mass, q, start, index, f, src_pos, src_mass, half, period, dt2, out):
+    """-dt^2 m_b 2 q_a grad_a W_ab summed over one list's pairs into out[a] (and, for the fluid's half list, the
+    pair's share of b, -dt^2 m_a 2 q_b grad_b W_ba, into out[b])."""
+    for a in range(pos.shape[0]):
+        for k in range(start[a], start[a + 1]):
+            b = index[k]
+            d0 = _minimum_image(pos[a, 0] - src_pos[b, 0], period[0])
+            d1 = _minimum_image(pos[a, 1] - src_pos[b, 1], period[1])
+            d2 = _minimum_image(pos[a, 2] - src_pos[b, 2], period[2])
+            ca = -dt2 * 2.0 * q[a] * src_mass[b] * f[k]
+            out[a, 0] += ca * d0
+            out[a, 1] += ca * d1
+            out[a, 2] += ca * d2
+            if half:
+                cb = -dt2 * 2.0 * q[b] * mass[a] * f[k]
+                out[b, 0] -= cb * d0
+                out[b, 1] -= cb * d1
+                out[b, 2] -= cb * d2
+
+
+_background = {}
+
+
+def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last_p, before):
+    """stepper.correction_loop's iterations (without the partial iteration), with the background part summed."""
+    out = _background["out"]
+    it = it_start
+    while True:
+        summation_density(fluid, walls, neighbours, prm, work)
+        emax, emean = compression_error(fluid.rho, prm.rho0)
+        if it >= prm.min_iterations and (emean if prm.on_mean else emax) <= prm.tolerance:
+            return it, emax, emean, CONVERGED
+        if it >= prm.max_iterations:
+            return it, emax, emean, CAPPED
+        if walls.pos.shape[0] > 0:
+            wall_pressure(walls, fluid.pos, work.p, neighbours, prm.h, prm.rho0)
+        pressure_displacement(fluid, walls, neighbours, prm, work)
+        background_displacement(fluid.pos, fluid.mass, work.p_over_rho2, neighbours.fluid_start,
+                                neighbours.fluid_index, work.f_fluid, fluid.pos, fluid.mass, True, neighbours.period,
+                                prm.dt2, out)
+        if walls.pos.shape[0] > 0:
+            background_displacement(fluid.pos, fluid.mass, work.p_over_rho2, neighbours.wall_start,
+                                    neighbours.wall_index, work.f_wall, walls.pos, walls.mass, False,
+                                    neighbours.period, prm.dt2, out)
+        apply_displacement(fluid.pos, work.disp, fluid.correction_displacement, neighbours.targets_at_build,
+                           work.moved2)
+        it += 1
+        if work.moved2.max() > prm.half_skin * prm.half_skin:
+            return it, -1.0, -1.0, NEEDS_REBUILD
+
+
+def shepard_average(solver, field):
+    """Each water particle's kernel average of `field` over the water (scipy's periodic k-d tree: an experiment)."""
+    fl, h, period = solver.fluid, solver.h, solver.period
+    box = np.where(period > 0, period, 1.0e3)
+    q = fl.pos - np.where(period > 0, solver.box_lo, fl.pos.min(axis=0) - 1.0)
+    q = np.where(period > 0, np.mod(q, box), q)
+    i, j = cKDTree(q, boxsize=box).query_pairs(2.0 * h, output_type="ndarray").T
+    d = q[i] - q[j]
+    d = np.where(period > 0, d - box * np.round(d / box), d)
+    r = np.sqrt((d * d).sum(axis=1))
+    w = _spline(r, h)
+    volume = fl.mass / fl.rho
+    num = field * (volume * cubic_spline_w(0.0, h))[:, None]
+    den = volume * cubic_spline_w(0.0, h)
+    np.add.at(num, i, field[j] * (volume[j] * w)[:, None])
+    np.add.at(num, j, field[i] * (volume[i] * w)[:, None])
+    np.add.at(den, i, volume[j] * w)
+    np.add.at(den, j, volume[i] * w)
+    return num / den[:, None]
+
+
+def _spline(r, h):
+    """The cubic spline W(r) on an array (numerics/kernels.py's M4)."""
+    q = r / h
+    w = np.where(q < 1, 1 - 1.5 * q ** 2 + 0.75 * q ** 3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0))
+    return w / (np.pi * h ** 3)
+
+
+_step = solver_module.FluidSolver.step
+
+
+def split_step(self, dt):
+    """The solver's step with the background part's share kept out of the velocity (and the rest smoothed)."""
+    fl = self.fluid
+    out = _background.get("out")
+    if out is None or out.shape[0] != fl.count:
+        out = _background["out"] = np.zeros((fl.count, 3))
+    out[:] = 0.0
+    report = _step(self, dt)
+    fl.vel -= SHARE * out / dt
+    if SMOOTH:
+        kept = fl.correction_displacement - SHARE * out
+        fl.vel += SMOOTH * (shepard_average(self, kept) - kept) / dt
+    return report
+
+
+solver_module.correction_loop = correction_loop
+solver_module.FluidSolver.step = split_step
+if sys.argv[3].endswith(".yaml"):
+    import tempfile
+
+    from sph_fsi_core.run import run_scene
+    from sph_fsi_core.scene import load_scene
+    with tempfile.TemporaryDirectory() as out_dir:
+        summary = run_scene(load_scene(sys.argv[3], ["output.snapshot_interval=0"] + sys.argv[4:]), out_dir=out_dir)
+        series = np.genfromtxt(f"{out_dir}/timeseries.csv", delimiter=",", names=True)
+    judged = "; ".join(f"{name} {j['measured']:.4g} (error {j['error_signed']:+.4g})" if j.get("measured") is not None
+                       else f"{name} -" for name, j in summary["judges"].items())
+    every = max(1, round(0.1 / float(series["time"][1] - series["time"][0])))
+    energy = " ".join(f"{1e3 * e:.2f}" for e in series["fluid_kinetic_energy"][::every])
+    print(f"share {SHARE:g}, smooth {SMOOTH:g}, {sys.argv[3]} {' '.join(sys.argv[4:])}: {judged}; kinetic energy "
+          f"[mJ] every 0.1 s: {energy}")
+else:
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), sys.argv[3])
+    sys.argv = [script] + sys.argv[4:]
+    runpy.run_path(script, run_name="__main__")
