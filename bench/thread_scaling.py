@@ -78,14 +78,18 @@ def time_pass(call, restore, rounds, threads=(1, 2)):
     return {k: statistics.median(v) for k, v in times.items()}
 
 
+def moving_dam_break(steps, size):
+    """(Simulation, its FluidSolver) of the dam break at `size` fluid particles after `steps` outer steps."""
+    sim = Simulation(load_scene(SCENES["dam_break"], CASES[("dam_break", size)] + ["output.snapshot_interval=0"]))
+    for _ in range(steps):
+        sim.step()
+    return sim, sim.fluid_phase.solver
+
+
 def fluid_passes(steps, size="1e5"):
     """(name, call, restore, serial) of the dam break's step at `size` (10^4 or 10^5 fluid particles) after `steps`
     outer steps; serial: a pass written as one loop (no prange)."""
-    spec = load_scene(SCENES["dam_break"], CASES[("dam_break", size)] + ["output.snapshot_interval=0"])
-    sim = Simulation(spec)
-    for _ in range(steps):
-        sim.step()
-    sv = sim.fluid_phase.solver
+    sim, sv = moving_dam_break(steps, size)
     fl = sv.fluid
     dt = sv.stable_dt(0.2)
     c = sv.correction_c(dt)
@@ -207,11 +211,7 @@ def host_passes(steps, size="1e5"):
     """(name, call, restore, serial) of loops that tell the host's limits: compute alone, memory streamed alone (as
     long as the dam break's pair arrays at 10^5, 3 x 3.2e7 doubles), and the viscous term's gathers alone on the dam
     break's own lists at `size` after `steps` outer steps."""
-    spec = load_scene(SCENES["dam_break"], CASES[("dam_break", size)] + ["output.snapshot_interval=0"])
-    sim = Simulation(spec)
-    for _ in range(steps):
-        sim.step()
-    sv = sim.fluid_phase.solver
+    _, sv = moving_dam_break(steps, size)
     fl = sv.fluid
     sv.rebuild()
     nb = sv.neighbours()

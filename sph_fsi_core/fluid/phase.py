@@ -268,9 +268,8 @@ class FluidPhase:
 
     def mean_velocity(self):
         """The water's momentum over its mass (m/s, (3,)): what a wall that takes no force along itself keeps."""
-        f = self.fluid
-        total = float(f.mass.sum())
-        return (f.mass @ f.vel) / total if total > 0.0 else np.zeros(3)
+        total = float(self.fluid.mass.sum())
+        return self.momentum() / total if total > 0.0 else np.zeros(3)
 
     def momentum(self):
         """The water's momentum (N s, (3,)): what the walls' forces change (an impulse judge's column)."""

@@ -20,21 +20,17 @@ import runpy
 import sys
 
 import numpy as np
+from kernel_pairs import kernel_and_gradient, periodic_pairs
 from numba import njit
-from scipy.spatial import cKDTree
 
 import sph_fsi_core.fluid.solver as solver_module
-from sph_fsi_core.fluid.okaji import apply_displacement, compression_error, pressure_displacement, summation_density
-from sph_fsi_core.fluid.okaji import wall_pressure
+from sph_fsi_core.fluid.okaji import (apply_displacement, compression_error, pressure_displacement, summation_density,
+                                      wall_pressure)
 from sph_fsi_core.fluid.stepper import CAPPED, CONVERGED, NEEDS_REBUILD
 from sph_fsi_core.numerics.kernels import cubic_spline_w
+from sph_fsi_core.numerics.periodic import minimum_image
 
 SHARE, SMOOTH = float(sys.argv[1]), float(sys.argv[2])
-
-
-@njit(cache=True)
-def _minimum_image(d, period):
-    return d - period * round(d / period) if period > 0.0 else d
 
 
 @njit(cache=True)
@@ -44,9 +40,9 @@ def background_displacement(pos, mass, q, start, index, f, src_pos, src_mass, ha
     for a in range(pos.shape[0]):
         for k in range(start[a], start[a + 1]):
             b = index[k]
-            d0 = _minimum_image(pos[a, 0] - src_pos[b, 0], period[0])
-            d1 = _minimum_image(pos[a, 1] - src_pos[b, 1], period[1])
-            d2 = _minimum_image(pos[a, 2] - src_pos[b, 2], period[2])
+            d0 = minimum_image(pos[a, 0] - src_pos[b, 0], period[0], 0.5 * period[0])
+            d1 = minimum_image(pos[a, 1] - src_pos[b, 1], period[1], 0.5 * period[1])
+            d2 = minimum_image(pos[a, 2] - src_pos[b, 2], period[2], 0.5 * period[2])
             ca = -dt2 * 2.0 * q[a] * src_mass[b] * f[k]
             out[a, 0] += ca * d0
             out[a, 1] += ca * d1
@@ -90,16 +86,10 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last
 
 
 def shepard_average(solver, field):
-    """Each water particle's kernel average of `field` over the water (scipy's periodic k-d tree: an experiment)."""
-    fl, h, period = solver.fluid, solver.h, solver.period
-    box = np.where(period > 0, period, 1.0e3)
-    q = fl.pos - np.where(period > 0, solver.box_lo, fl.pos.min(axis=0) - 1.0)
-    q = np.where(period > 0, np.mod(q, box), q)
-    i, j = cKDTree(q, boxsize=box).query_pairs(2.0 * h, output_type="ndarray").T
-    d = q[i] - q[j]
-    d = np.where(period > 0, d - box * np.round(d / box), d)
-    r = np.sqrt((d * d).sum(axis=1))
-    w = _spline(r, h)
+    """Each water particle's kernel average of `field` over the water (kernel_pairs.py's pairs: an experiment)."""
+    fl, h = solver.fluid, solver.h
+    i, j, d = periodic_pairs(fl.pos, solver.period, solver.box_lo, 2.0 * h)
+    w, _ = kernel_and_gradient(d, np.sqrt((d * d).sum(axis=1)), h)
     volume = fl.mass / fl.rho
     num = field * (volume * cubic_spline_w(0.0, h))[:, None]
     den = volume * cubic_spline_w(0.0, h)
@@ -108,13 +98,6 @@ def shepard_average(solver, field):
     np.add.at(den, i, volume[j] * w)
     np.add.at(den, j, volume[i] * w)
     return num / den[:, None]
-
-
-def _spline(r, h):
-    """The cubic spline W(r) on an array (numerics/kernels.py's M4)."""
-    q = r / h
-    w = np.where(q < 1, 1 - 1.5 * q ** 2 + 0.75 * q ** 3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0))
-    return w / (np.pi * h ** 3)
 
 
 _step = solver_module.FluidSolver.step

@@ -18,6 +18,7 @@ import math
 import sys
 
 import numpy as np
+from cells import cell_amplitude, kinetic_energy, start_cells
 from particle_shifting import install
 
 from sph_fsi_core.fluid.solver import FluidSolver
@@ -66,27 +67,16 @@ for _ in range(round(1.0 / dt)):
     water.vel *= 0.5 ** (dt / 0.005)
 water.vel[:] = 0.0
 k = 2.0 * math.pi / (n * dp)
-
-
-def field(p):
-    x, z = p[:, 0], p[:, 2]
-    return np.sin(k * x) * np.cos(k * z), -np.cos(k * x) * np.sin(k * z)
-
-
-ux, uz = field(water.pos)
-water.vel[:, 0], water.vel[:, 2] = speed * ux, speed * uz
-k0 = 0.5 * (water.mass * (water.vel ** 2).sum(axis=1)).sum()
+k0 = start_cells(water, k, speed)
 every = round(0.25 / dt)
 rows, iterations = [], []
 for step in range(1, 6 * every + 1):
     iterations.append(fluid_step().iterations)
     if step % every == 0:
-        ux, uz = field(water.pos)
         rms = 1e3 * math.sqrt((water.vel ** 2).sum(axis=1).mean())
         if speed > 0.0:
-            amplitude = (water.vel[:, 0] * ux + water.vel[:, 2] * uz).sum() / (ux * ux + uz * uz).sum() / speed
-            kinetic = 0.5 * (water.mass * (water.vel ** 2).sum(axis=1)).sum()
-            rows.append(f"{step * dt:.2f} s: {kinetic / k0:.3f} / {amplitude:+.3f} / {rms:.1f}")
+            rows.append(f"{step * dt:.2f} s: {kinetic_energy(water) / k0:.3f} / "
+                        f"{cell_amplitude(water, k, speed):+.3f} / {rms:.1f}")
         else:
             rows.append(f"{step * dt:.2f} s: {rms:.1f}")
 print(f"h/dp {ratio:g}, g {gravity:g} m/s^2, jitter {jitter:g} dp, U {speed:g} m/s, dt {1e3 * dt:g} ms, "

@@ -8,11 +8,11 @@ over water and wall neighbours (V = m / rho0), so the water spreads towards an e
 falls to about 0.5 and its gradient would throw the water out: a particle is not shifted within the surface's band,
 where C < 0.97, h |grad C| > 0.2, or a neighbour has C < 0.9 (Lind et al. shift only along the surface there; in
 this flat band that is nearly no shift). No scene key does this: `install(A, dp, free_surface)` wraps
-FluidSolver.step for the run of the script that calls it. Pairs from scipy's periodic k-d tree (an experiment,
+FluidSolver.step for the run of the script that calls it. Pairs and kernel from kernel_pairs.py (an experiment,
 not a solver pass).
 """
 import numpy as np
-from scipy.spatial import cKDTree
+from kernel_pairs import kernel_and_gradient, periodic_pairs
 
 from sph_fsi_core.fluid.okaji import wrap_periodic
 from sph_fsi_core.fluid.solver import FluidSolver
@@ -21,18 +21,6 @@ from sph_fsi_core.numerics.kernels import cubic_spline_w
 R, N = 0.2, 4              # Lind et al.'s anti-clumping term
 SURFACE_C = 0.9            # a particle with less is on the free surface
 BAND_C, BAND_GRADIENT = 0.97, 0.2
-_FAR = 1.0e3               # m, the k-d tree's "period" along an axis that has none
-
-
-def _kernel_and_gradient(d, r, h):
-    """W(r) and grad W (rows d = r_a - r_b) of the cubic spline (numerics/kernels.py's M4)."""
-    q = r / h
-    sigma = 1.0 / (np.pi * h ** 3)
-    w = np.where(q < 1, 1 - 1.5 * q ** 2 + 0.75 * q ** 3, np.where(q < 2, 0.25 * (2 - q) ** 3, 0.0)) * sigma
-    dw = np.where(q < 1, -3 * q + 2.25 * q ** 2, np.where(q < 2, -0.75 * (2 - q) ** 2, 0.0)) * sigma / h
-    with np.errstate(invalid="ignore", divide="ignore"):
-        grad = np.where(r[:, None] > 0, dw[:, None] * d / r[:, None], 0.0)
-    return w, grad
 
 
 def shift(solver, dt, coefficient, dp, free_surface):
@@ -41,14 +29,8 @@ def shift(solver, dt, coefficient, dp, free_surface):
     n = len(fl.pos)
     points = np.vstack([fl.pos, solver.wall_pos])
     volume = np.concatenate([fl.mass, solver.wall_mass]) / solver.rho0
-    box = np.where(period > 0, period, _FAR)
-    origin = np.where(period > 0, solver.box_lo, np.minimum(points.min(axis=0), 0.0) - 1.0)
-    q = points - origin
-    q = np.where(period > 0, np.mod(q, box), q)
-    i, j = cKDTree(q, boxsize=box).query_pairs(2.0 * h, output_type="ndarray").T
-    d = q[i] - q[j]
-    d = np.where(period > 0, d - box * np.round(d / box), d)
-    w, grad = _kernel_and_gradient(d, np.sqrt((d * d).sum(axis=1)), h)
+    i, j, d = periodic_pairs(points, period, solver.box_lo, 2.0 * h)
+    w, grad = kernel_and_gradient(d, np.sqrt((d * d).sum(axis=1)), h)
     anti_clump = 1.0 + R * (w / cubic_spline_w(dp, h)) ** N
     conc = volume * cubic_spline_w(0.0, h)
     np.add.at(conc, i, volume[j] * w)

@@ -13,6 +13,7 @@ import math
 import sys
 
 import numpy as np
+from cells import cell_amplitude, kinetic_energy, start_cells
 from particle_shifting import install
 
 from sph_fsi_core.fluid.solver import FluidSolver
@@ -41,23 +42,11 @@ if jitter:   # the disordered water relaxed at rest first
         solver.step(dt)
         water.vel *= 0.5
     water.vel[:] = 0.0
-
-
-def field(p):
-    x, z = p[:, 0], p[:, 2]
-    return np.sin(k * x) * np.cos(k * z), -np.cos(k * x) * np.sin(k * z)
-
-
-ux, uz = field(water.pos)
-water.vel[:, 0], water.vel[:, 2] = speed * ux, speed * uz
-k0 = 0.5 * (water.mass * (water.vel ** 2).sum(axis=1)).sum()
+k0 = start_cells(water, k, speed)
 rows = []
 for step in range(1, 201):
     solver.step(dt)
     if step % 40 == 0:
-        ux, uz = field(water.pos)
-        amplitude = (water.vel[:, 0] * ux + water.vel[:, 2] * uz).sum() / (ux * ux + uz * uz).sum() / speed
-        kinetic = 0.5 * (water.mass * (water.vel ** 2).sum(axis=1)).sum()
-        rows.append(f"{step * dt:.1f} s: {kinetic / k0:.3f} / {amplitude:+.3f}")
+        rows.append(f"{step * dt:.1f} s: {kinetic_energy(water) / k0:.3f} / {cell_amplitude(water, k, speed):+.3f}")
 print(f"h/dp {ratio:g}, U {speed:g} m/s, jitter {jitter:g} dp, shift {shift:g}: kinetic energy / start, amplitude / U: "
       + "; ".join(rows))
