@@ -133,6 +133,43 @@ SPLIT = (
     "0.7, 1.1 s) and then turns to noise (4-6 mJ from 1.8 s). Not a cure yet; the direction of one.")
 
 
+KERNEL = (
+    "Whose loss it is: the pressure gradient's on disordered water, not the correction's; and the kernel's share. The "
+    "cells under gravity as above (h / dp 1.5 unless said). A pressure solved as a field instead of the correction "
+    "(`iisph_step.py 0.15 0.5 1 cell_flow.py 1.5 9.81 0.1`: the IISPH prototype of studies/partial_iteration, its "
+    "Jacobi relaxed at 0.15, as 0.3 diverges from a disordered start; 19 evaluations a step) loses them as fast: 0.226 "
+    "U at 0.25 s and about none from 0.5 s, their energy kept as noise (0.78-0.89 of the start's, 25-27 mm/s RMS); the "
+    "water at rest is stirred at 18-20 mm/s that does not decay. The velocity's correction from a first-order "
+    "consistent gradient of the step's summed pressure instead of the displacement (`corrected_velocity.py 0.5 "
+    "cell_flow.py 1.5 9.81 0.1`, Bonet & Lok 1999, over the water alone): exact for the column's linear pressure, but "
+    "the summed pressure scatters by 51 Pa RMS about the column's (5 % of its largest) and is not linear next to the "
+    "floor and the lid (a diagnosis of the first steps, not kept: 17 mm/s of noise a step, the floor's and lid's "
+    "layers pushed 37 and 78 % more than g dt); the water boils (0.596 U and 297 mm/s RMS at 0.25 s). The split only "
+    "where the kernel is full of water (`background_split.py 1 1 --full C cell_flow.py 1.5 9.81 0.1 0`, the default's "
+    "velocity at the walls) stirs the water at rest as much: at C = 0.9 / 0.97 27.7 / 23.6 mm/s at 1.5 s, rising. The "
+    "kernel (`wendland_kernel.patch`: Wendland's C2 kernel with the same support 2h, free of the cubic spline's "
+    "pairing instability, applied in a worktree of its own): the cells keep 0.446 / 0.747 / 0.693 / 0.685 U at 0.25 s "
+    "and 0.122 / 0.517 / 0.583 / 0.663 U at 1 s at h / dp 1.5 / 1.75 / 2 / 2.5 (28.7 / 21.7 / 18.4 / 15.4 iterations a "
+    "step); the cubic spline at 1.8 keeps 0.088 U at 0.25 s. At h / dp 2 without gravity they keep 0.997 and 0.882 U, "
+    "and the water at rest is stirred at 4.9 mm/s falling to 3.8 (the cubic spline at 1.5: 13.6 to 6.3); from the "
+    "lattice they keep 0.797 and 0.338 U, shifted (A = 2) 0.683 and 0.589 U: neither order nor shifting is what is "
+    "missing. With the split (SHARE 1, SMOOTH 1) at h / dp 2 they keep 0.925 / 0.799 / 0.709 U at 0.25 / 1 / 1.5 s, "
+    "near what they keep without gravity, and the water at rest is stirred at 5-10 mm/s (the cubic spline's split: "
+    "22-23). The wave does not follow the cells: at h / dp 2 (`sph-fsi run config/standing_wave.yaml` in the worktree "
+    "with numerics.smoothing_ratio=2.0, geometry.span_layers=9 and geometry.wall_layers=5; 22,680 water particles, 332 "
+    "s on 2 threads against the default's 161 s) it loses 48.8 / 40.2 % a period and oscillates 5.4 / 5.2 % slow, from "
+    "a disordered start (`jittered_start.py 0.1` with the same keys) 38.3 / 40.5 % and 7.6 / 9.9 % slow. Its first "
+    "period is the cleanest yet (kinetic energy peaks 1.72, 1.51, 1.42 mJ at 0, 0.37, 0.73 s: about 10 % of the "
+    "amplitude a period), then the loss grows (0.95, 0.65, 0.46 mJ at 1.08, 1.46, 1.84 s). Twice the amplitude (a / d "
+    "= 0.1) loses a smaller share, 38.7 / 28.3 % a period (-2.3 / -1.9 % in frequency; the cubic spline at 1.3: 47.5 / "
+    "43.8 %, +5.4 / +4.7 %): part of the loss does not scale with the wave's energy, as a noise floor's would not. "
+    "With the split (`background_split.py 1 1 config/standing_wave.yaml` with the same keys in the worktree; 32 "
+    "minutes) the wave keeps about 98 % of its amplitude over its first half period (kinetic energy 1.72, 0.07, 1.66 "
+    "mJ at 0, 0.2, 0.4 s) and then turns to noise (1.1-2.9 mJ from 0.7 s, against the wave's 1.72), as the cubic "
+    "spline's split does from 1.4 s; with the split only where the kernel is full (`--full 0.95`) the noise comes as "
+    "soon and stronger (1.3-3.2 mJ from 0.6 s).")
+
+
 def table(out_dir, rungs, summaries):
     runs = [r for r in rungs if r.case == CASE]
     if not runs:
@@ -152,4 +189,4 @@ def table(out_dir, rungs, summaries):
         lines.append(f"| {r.label} | {ratio} | {measure} | {beside} | {s.get('fluid_steps', 0)} | "
                      f"{fmt(s.get('fluid_iterations_per_step'), '.1f')} | {s['wall_time_s']:.0f} | "
                      f"{machine.get('numba_threads', '-')} | {machine.get('commit', '-')} |")
-    return lines + ["", READING, "", EXPERIMENTS, "", SPLIT]
+    return lines + ["", READING, "", EXPERIMENTS, "", SPLIT, "", KERNEL]

@@ -9,8 +9,12 @@ Hu & Adams 2013); with SMOOTH the velocity's correction is also replaced by its 
 takes the difference form's particle-scale noise out. No scene key does this: it wraps the fluid solver for the
 script it runs.
 
-    python docs/validation/studies/water_lattice/background_split.py SHARE SMOOTH SCRIPT [ARGS ...]
+    python docs/validation/studies/water_lattice/background_split.py SHARE SMOOTH [--full C] SCRIPT [ARGS ...]
     (e.g. 1 1 cell_flow.py 1.5 9.81 0.1; SCRIPT one of the study's scripts; 2-3 times the script's time)
+
+With --full C the velocity is changed only where the kernel is full of water: sum_b V_b W_ab over the water (its
+own term included) at least C; elsewhere (at the walls and the free surface, where the background part is the
+boundary's real push) it keeps the default's.
 
 SCRIPT may also be a scene file (ARGS its KEY=VALUE overrides): it is run headless and its judges printed with the
 water's kinetic energy (mJ) every 0.1 s, to show where a run turns to noise.
@@ -31,6 +35,10 @@ from sph_fsi_core.numerics.kernels import cubic_spline_w
 from sph_fsi_core.numerics.periodic import minimum_image
 
 SHARE, SMOOTH = float(sys.argv[1]), float(sys.argv[2])
+FULL = 0.0
+if sys.argv[3] == "--full":
+    FULL = float(sys.argv[4])
+    del sys.argv[3:5]
 
 
 @njit(cache=True)
@@ -85,19 +93,31 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last
             return it, -1.0, -1.0, NEEDS_REBUILD
 
 
-def shepard_average(solver, field):
-    """Each water particle's kernel average of `field` over the water (kernel_pairs.py's pairs: an experiment)."""
+def water_pairs(solver):
+    """(i, j, W_ij) of the water's pairs (kernel_pairs.py's: an experiment) and each particle's volume m / rho."""
     fl, h = solver.fluid, solver.h
     i, j, d = periodic_pairs(fl.pos, solver.period, solver.box_lo, 2.0 * h)
     w, _ = kernel_and_gradient(d, np.sqrt((d * d).sum(axis=1)), h)
-    volume = fl.mass / fl.rho
-    num = field * (volume * cubic_spline_w(0.0, h))[:, None]
-    den = volume * cubic_spline_w(0.0, h)
+    return i, j, w, fl.mass / fl.rho
+
+
+def shepard_average(solver, field):
+    """Each water particle's kernel average of `field` over the water."""
+    i, j, w, volume = water_pairs(solver)
+    num = field * (volume * cubic_spline_w(0.0, solver.h))[:, None]
+    den = volume * cubic_spline_w(0.0, solver.h)
     np.add.at(num, i, field[j] * (volume[j] * w)[:, None])
     np.add.at(num, j, field[i] * (volume[i] * w)[:, None])
     np.add.at(den, i, volume[j] * w)
     np.add.at(den, j, volume[i] * w)
     return num / den[:, None]
+
+
+def kernel_fullness(solver):
+    """sum_b V_b W_ab over the water, a particle's own term included (1 where its kernel is full of water)."""
+    i, j, w, volume = water_pairs(solver)
+    n = len(volume)
+    return volume * cubic_spline_w(0.0, solver.h) + np.bincount(i, volume[j] * w, n) + np.bincount(j, volume[i] * w, n)
 
 
 _step = solver_module.FluidSolver.step
@@ -111,10 +131,11 @@ def split_step(self, dt):
         out = _background["out"] = np.zeros((fl.count, 3))
     out[:] = 0.0
     report = _step(self, dt)
-    fl.vel -= SHARE * out / dt
+    split = kernel_fullness(self) >= FULL if FULL else slice(None)
+    fl.vel[split] -= SHARE * out[split] / dt
     if SMOOTH:
         kept = fl.correction_displacement - SHARE * out
-        fl.vel += SMOOTH * (shepard_average(self, kept) - kept) / dt
+        fl.vel[split] += (SMOOTH * (shepard_average(self, kept) - kept) / dt)[split]
     return report
 
 

@@ -1,9 +1,10 @@
 """The study's experiment that tells gravity from the free surface (docs/validation/OPEN.md 7): Taylor-Green cells,
 u = U sin(k x) cos(k z), w = -U cos(k x) sin(k z), between a free-slip floor and lid (z = 0 and pi / k, where w = 0:
-32 x 6 x 16 spacings of 5 mm, 7 across at h/dp 1.5, walls 4 layers on the water's lattice), periodic along x and y,
-with gravity G. The cells are a steady inviscid flow whatever G (its hydrostatic pressure added) and there is no
-free surface: what G changes is how hard the correction holds the water up. The water (moved at random by up to
-JITTER spacings first) settles at rest for 1 s, its velocity halved every 5 ms, then takes the cells' field.
+32 x 6 x 16 spacings of 5 mm, 7 across at h/dp 1.5 and 4 h/dp + 1 above it, walls 4 layers on the water's lattice
+and more where the kernel reaches past them), periodic along x and y, with gravity G. The cells are a steady
+inviscid flow whatever G (its hydrostatic pressure added) and there is no free surface: what G changes is how hard
+the correction holds the water up. The water (moved at random by up to JITTER spacings first) settles at rest for
+1 s, its velocity halved every 5 ms, then takes the cells' field.
 Stepped by the fluid's solver alone at DT (default 5 ms) with the default correction. Prints every 0.25 s the
 kinetic energy over the start's, the cells' amplitude (the velocity projected on the field at the particles'
 positions, over U) and the RMS speed (mm/s); U = 0: the water at rest, its RMS speed alone.
@@ -32,8 +33,9 @@ speed = float(sys.argv[4]) if len(sys.argv) > 4 else 0.04
 dt = float(sys.argv[5]) if len(sys.argv) > 5 else 0.005
 shift = float(sys.argv[6]) if len(sys.argv) > 6 else 0.0
 warm = float(sys.argv[7]) if len(sys.argv) > 7 else 0.0
-dp, n, layers = 0.005, 32, 4
-across = 6 if ratio < 1.4 else 7
+dp, n = 0.005, 32
+layers = max(4, math.ceil(2.0 * ratio) + 1)                            # the walls reach past the kernel's 2h
+across = 6 if ratio < 1.4 else (7 if ratio <= 1.5 else int(4.0 * ratio) + 1)   # the period wider than 4h
 depth = n // 2
 plane = [(np.arange(m) + 0.5) * dp for m in (n, across)]
 heights = (np.arange(depth) + 0.5) * dp
