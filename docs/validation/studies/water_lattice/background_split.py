@@ -24,14 +24,13 @@ import runpy
 import sys
 
 import numpy as np
-from kernel_pairs import kernel_and_gradient, periodic_pairs
+from kernel_pairs import kernel_and_gradient, kernel_fullness, kernel_w, periodic_pairs
 from numba import njit
 
 import sph_fsi_core.fluid.solver as solver_module
 from sph_fsi_core.fluid.okaji import (apply_displacement, compression_error, pressure_displacement, summation_density,
                                       wall_pressure)
 from sph_fsi_core.fluid.stepper import CAPPED, CONVERGED, NEEDS_REBUILD
-from sph_fsi_core.numerics.kernels import cubic_spline_w
 from sph_fsi_core.numerics.periodic import minimum_image
 
 SHARE, SMOOTH = float(sys.argv[1]), float(sys.argv[2])
@@ -101,23 +100,16 @@ def water_pairs(solver):
     return i, j, w, fl.mass / fl.rho
 
 
-def shepard_average(solver, field):
-    """Each water particle's kernel average of `field` over the water."""
-    i, j, w, volume = water_pairs(solver)
-    num = field * (volume * cubic_spline_w(0.0, solver.h))[:, None]
-    den = volume * cubic_spline_w(0.0, solver.h)
+def shepard_average(pairs, h, field):
+    """Each water particle's kernel average of `field` over the water (`pairs`: water_pairs')."""
+    i, j, w, volume = pairs
+    num = field * (volume * kernel_w(0.0, h))[:, None]
+    den = volume * kernel_w(0.0, h)
     np.add.at(num, i, field[j] * (volume[j] * w)[:, None])
     np.add.at(num, j, field[i] * (volume[i] * w)[:, None])
     np.add.at(den, i, volume[j] * w)
     np.add.at(den, j, volume[i] * w)
     return num / den[:, None]
-
-
-def kernel_fullness(solver):
-    """sum_b V_b W_ab over the water, a particle's own term included (1 where its kernel is full of water)."""
-    i, j, w, volume = water_pairs(solver)
-    n = len(volume)
-    return volume * cubic_spline_w(0.0, solver.h) + np.bincount(i, volume[j] * w, n) + np.bincount(j, volume[i] * w, n)
 
 
 _step = solver_module.FluidSolver.step
@@ -131,11 +123,12 @@ def split_step(self, dt):
         out = _background["out"] = np.zeros((fl.count, 3))
     out[:] = 0.0
     report = _step(self, dt)
-    split = kernel_fullness(self) >= FULL if FULL else slice(None)
+    pairs = water_pairs(self) if SMOOTH or FULL else None
+    split = kernel_fullness(*pairs, self.h) >= FULL if FULL else slice(None)
     fl.vel[split] -= SHARE * out[split] / dt
     if SMOOTH:
         kept = fl.correction_displacement - SHARE * out
-        fl.vel[split] += (SMOOTH * (shepard_average(self, kept) - kept) / dt)[split]
+        fl.vel[split] += (SMOOTH * (shepard_average(pairs, self.h, kept) - kept) / dt)[split]
     return report
 
 

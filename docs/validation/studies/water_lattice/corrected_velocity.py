@@ -20,21 +20,11 @@ import runpy
 import sys
 
 import numpy as np
-from kernel_pairs import kernel_and_gradient, periodic_pairs
+from kernel_pairs import kernel_and_gradient, kernel_fullness, pair_sum, periodic_pairs
 
 import sph_fsi_core.fluid.solver as solver_module
-from sph_fsi_core.numerics.kernels import cubic_spline_w
 
 SINGULAR = 1.0e-3   # det(M) below this (M is 1 on a full kernel): the gradient is not trusted
-
-
-def pair_sum(i, j, n, values_i, values_j):
-    """sum over pairs of values_i into i and values_j into j (rows of any width), as (n, width)."""
-    width = values_i.shape[1]
-    out = np.empty((n, width))
-    for c in range(width):
-        out[:, c] = np.bincount(i, values_i[:, c], n) + np.bincount(j, values_j[:, c], n)
-    return out
 
 
 def corrected_pressure_velocity(solver, dt, least_full):
@@ -51,8 +41,7 @@ def corrected_pressure_velocity(solver, dt, least_full):
     # sum_b V_b (p_b - p_a) grad_a W_ab: both ends give V (p_j - p_i) grad_i W_ij
     dp = (p[j] - p[i])[:, None] * grad
     raw = pair_sum(i, j, n, volume[j, None] * dp, volume[i, None] * dp)
-    full = volume * cubic_spline_w(0.0, h) + pair_sum(i, j, n, (volume[j] * w)[:, None], (volume[i] * w)[:, None])[:, 0]
-    trusted = (full >= least_full) & (np.linalg.det(moment) > SINGULAR)
+    trusted = (kernel_fullness(i, j, w, volume, h) >= least_full) & (np.linalg.det(moment) > SINGULAR)
     dv = np.zeros((n, 3))
     dv[trusted] = -dt * np.linalg.solve(moment[trusted], raw[trusted][:, :, None])[:, :, 0] / fl.rho[trusted, None]
     return dv, trusted

@@ -1,7 +1,10 @@
-"""The study's experiment scripts' pair sums (particle_shifting.py, background_split.py): pairs within a radius from
-scipy's periodic k-d tree and the M4 cubic spline (numerics/kernels.py's) on arrays of them. Experiments, not solver
-passes: a step's pairs are found anew each call.
+"""The study's experiment scripts' pair sums (particle_shifting.py, background_split.py, corrected_velocity.py): pairs
+within a radius from scipy's periodic k-d tree and the M4 cubic spline (numerics/kernels.py's) on arrays of them,
+its own copy so that a worktree with wendland_kernel.patch smooths and sums as this one does. Experiments, not
+solver passes: a step's pairs are found anew each call.
 """
+import math
+
 import numpy as np
 from scipy.spatial import cKDTree
 
@@ -28,3 +31,25 @@ def kernel_and_gradient(d, r, h):
     with np.errstate(invalid="ignore", divide="ignore"):
         grad = np.where(r[:, None] > 0, dw[:, None] * d / r[:, None], 0.0)
     return w, grad
+
+
+def kernel_w(r, h):
+    """W(r, h) of the same spline at one distance, written as numerics/kernels.py's cubic_spline_w (the same bits)."""
+    q = r / h
+    t2 = max(2.0 - q, 0.0)
+    t1 = max(1.0 - q, 0.0)
+    return (0.25 * t2 * t2 * t2 - t1 * t1 * t1) / (math.pi * h * h * h)
+
+
+def pair_sum(i, j, n, values_i, values_j):
+    """sum over pairs of values_i into i and values_j into j (rows of any width), as (n, width)."""
+    out = np.empty((n, values_i.shape[1]))
+    for c in range(values_i.shape[1]):
+        out[:, c] = np.bincount(i, values_i[:, c], n) + np.bincount(j, values_j[:, c], n)
+    return out
+
+
+def kernel_fullness(i, j, w, volume, h):
+    """sum_b V_b W_ab over the pairs (i, j, W) and each particle's own term: 1 where its kernel is full."""
+    return volume * kernel_w(0.0, h) + pair_sum(i, j, len(volume), (volume[j] * w)[:, None],
+                                                 (volume[i] * w)[:, None])[:, 0]

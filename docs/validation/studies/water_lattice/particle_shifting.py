@@ -12,11 +12,10 @@ FluidSolver.step for the run of the script that calls it. Pairs and kernel from 
 not a solver pass).
 """
 import numpy as np
-from kernel_pairs import kernel_and_gradient, periodic_pairs
+from kernel_pairs import kernel_and_gradient, kernel_w, periodic_pairs
 
 from sph_fsi_core.fluid.okaji import wrap_periodic
 from sph_fsi_core.fluid.solver import FluidSolver
-from sph_fsi_core.numerics.kernels import cubic_spline_w
 
 R, N = 0.2, 4              # Lind et al.'s anti-clumping term
 SURFACE_C = 0.9            # a particle with less is on the free surface
@@ -31,8 +30,8 @@ def shift(solver, dt, coefficient, dp, free_surface):
     volume = np.concatenate([fl.mass, solver.wall_mass]) / solver.rho0
     i, j, d = periodic_pairs(points, period, solver.box_lo, 2.0 * h)
     w, grad = kernel_and_gradient(d, np.sqrt((d * d).sum(axis=1)), h)
-    anti_clump = 1.0 + R * (w / cubic_spline_w(dp, h)) ** N
-    conc = volume * cubic_spline_w(0.0, h)
+    anti_clump = 1.0 + R * (w / kernel_w(dp, h)) ** N
+    conc = volume * kernel_w(0.0, h)
     np.add.at(conc, i, volume[j] * w)
     np.add.at(conc, j, volume[i] * w)
     grad_c = np.zeros((len(points), 3))
