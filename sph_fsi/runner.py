@@ -383,13 +383,28 @@ class Runner:
     def _reset(self):
         with self._cv:
             scene = self._pending_settings.pop("scene", None)
-            desired = self.desired
+            asked = desired = self.desired
         old_run, old_sim = self.run, self.sim
+
+        def commit():
+            """The rebuilt run's values become the desired ones before its first frame goes out, so a change
+            made by whoever saw that frame is not undone; one made during the build (same scene) stays, pending.
+            Returns the desired values, which the parameters show."""
+            with self._cv:
+                if scene is not None or self.desired is asked:
+                    self.desired = desired
+                    self._pending_keys.clear()
+                else:   # still pending: the keys whose desired value is not the built one
+                    self._pending_keys = {k for k in self._pending_keys
+                                          if self.desired.values.get(k) != desired.values.get(k)}
+                self._last_error = ""
+                return self.desired
+
         try:
             if scene is not None:
                 desired = load_scene(scene or None)
                 self.settings["scene"] = scene
-            self._build(desired, show_parameters=True)
+            self._build(desired, show_parameters=True, built=commit)
         except SceneError as exc:
             with self._cv:
                 self._last_error = f"reset refused: {exc}"
@@ -397,17 +412,14 @@ class Runner:
             self.run, self.sim = old_run, old_sim
             self._publish_diagnostics()
             return
-        with self._cv:
-            self._pending_keys.clear()
-            self.desired = desired
-            self._last_error = ""
         del old_run, old_sim
         return_freed_memory()
 
-    def _build(self, spec, restored=None, show_parameters=False):
+    def _build(self, spec, restored=None, show_parameters=False, built=None):
         """Build the run for `spec` and publish its first frame. show_parameters (a reset): first set the node's
         parameters to the rebuilt scene's values (a new scene's keys, or the detailed keys a changed solid.scheme
-        expanded to), so that whoever sees the new run's first frame reads its parameters."""
+        expanded to), so that whoever sees the new run's first frame reads its parameters. built(): called once
+        the run is built, before its first frame goes out; returns the values the parameters show."""
         started = time.monotonic()
         cold = scene_kernels_cached(spec) is False
         if cold:
@@ -439,8 +451,9 @@ class Runner:
         self.progress = Progress(run.sim)
         self._progress_logged = time.monotonic()
         self._compiling_since = started if cold else None   # until the first outer step is done
+        shown = built() if built is not None else spec
         if show_parameters:
-            self.out.scene_changed(spec)
+            self.out.scene_changed(shown)
         self.out.sync_topics(run.sim, self.settings["qos"])
         self.out.publish_walls(run.sim, self.settings["frame_id"])
         self._publish_frame()

@@ -34,13 +34,22 @@ DEPENDENCIES = {V3: ["std_msgs/Header", "builtin_interfaces/Time", "geometry_msg
                          "geometry_msgs/Vector3"]}
 
 
+@pytest.fixture(scope="module", autouse=True)
+def one_thread():
+    """This module's simulations on one thread, then the count back for the tests after it: numba's thread count
+    is the calling thread's, and a runner's thread would not share it."""
+    import numba
+    saved = numba.get_num_threads()
+    numba.set_num_threads(1)
+    yield
+    numba.set_num_threads(saved)
+
+
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
-    import numba
     from sph_fsi.recording import Recorder
     from sph_fsi_core.scene import load_scene
     from sph_fsi_core.simulation import Simulation
-    numba.set_num_threads(1)
     d = tmp_path_factory.mktemp("probes")
     sim = Simulation(load_scene(str(SCENE)))
     rec = Recorder(sim, mcap_path=d / "p.mcap", rrd_path=d / "p.rrd", interval=0.0)

@@ -137,6 +137,31 @@ def test_paused_step_reset_and_numbered_out_dir(runner, tmp_path):
     assert not runner.request_step()[0]   # at its end time
 
 
+def test_a_change_made_on_seeing_a_resets_first_frame_is_kept(runner):
+    """Whoever sees the rebuilt run's first frame may change a key at once (the node's test does: solid.scheme
+    right after a reset); the reset has made its values the desired ones before that frame, so it does not undo
+    the change when it ends. The change is made here inside the frame's publication, as late as it can come."""
+    out = runner.out
+    later = runner.desired.with_overrides({"numerics.spacing": 0.0005})
+    publish = out.publish_frame
+
+    def publish_then_change(sim, frame_id):
+        done = publish(sim, frame_id)
+        if len(out.frames) == 2:
+            runner.change({}, {"numerics.spacing": 0.0005}, later, {"numerics.spacing"})
+        return done
+
+    out.publish_frame = publish_then_change
+    runner.request_reset()
+    wait_until(lambda: len(out.frames) == 2)
+    time.sleep(0.3)
+    assert runner.desired is later and runner.pending() == ["numerics.spacing"]
+    assert runner.sim.spec.values["numerics.spacing"] == 0.001
+    runner.request_reset()
+    wait_until(lambda: len(out.frames) == 3)
+    assert runner.sim.spec.values["numerics.spacing"] == 0.0005 and runner.pending() == []
+
+
 def test_runner_time_series_equals_run_scenes_to_the_bit(runner, tmp_path):
     """One loop: the node's runner and run_scene (the CLI) give the same time series and summary numbers."""
     end = 0.005

@@ -44,7 +44,7 @@ SMALL = {"geometry.length": 0.012, "geometry.width": 0.003, "geometry.clamp_marg
 # the default scheme's mirrored clamp: 4 layers of ghosts behind the root, no margin (geometry.clamp_margin is the
 # fixed clamp's; config/cantilever.yaml), the last left out: beyond the body's reach (scenes/built.py)
 MOVING, CLAMP = 12 * 3 * 4, 3 * 3 * 4     # 144, 36
-FIRST_CLOCK_TIMEOUT = 400.0         # a cold Numba cache: the build compiles the fit (125 s before t = 0 on a shared host)
+FIRST_CLOCK_TIMEOUT = 400.0   # a cold Numba cache: the build compiles the fit (125 s before t = 0, shared host)
 LATENCY_LIMIT = 0.2
 
 # `make test` picks a random base ROS_DOMAIN_ID per run; the modules that start nodes take fixed offsets from it
@@ -340,10 +340,14 @@ def test_tip_displacement_equals_the_simulators_own(node, peer):
     import numba
     from sph_fsi_core.scene import load_scene
     from sph_fsi_core.simulation import Simulation
-    numba.set_num_threads(1)
-    sim = Simulation(load_scene("cantilever", list(SMALL.items())))
-    while sim.time < t - 1e-9:
-        sim.step()
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)   # the node's (NUMBA_NUM_THREADS=1); then back, for the tests after this one
+    try:
+        sim = Simulation(load_scene("cantilever", list(SMALL.items())))
+        while sim.time < t - 1e-9:
+            sim.step()
+    finally:
+        numba.set_num_threads(threads)
     assert abs(sim.time - t) < 1e-9
     d = sim.probe_displacements()["tip"]
     got = np.array([msg.vector.x, msg.vector.y, msg.vector.z])

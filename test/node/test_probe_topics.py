@@ -48,11 +48,20 @@ def stamp_ns(stamp):
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-def build(scene, overrides=()):
+@pytest.fixture(scope="module", autouse=True)
+def one_thread():
+    """This module's simulations on one thread (the node's NUMBA_NUM_THREADS=1), then the count back for the tests
+    after it: numba's thread count is the calling thread's, and a runner's thread would not share it."""
     import numba
+    saved = numba.get_num_threads()
+    numba.set_num_threads(1)
+    yield
+    numba.set_num_threads(saved)
+
+
+def build(scene, overrides=()):
     from sph_fsi_core.scene import load_scene
     from sph_fsi_core.simulation import Simulation
-    numba.set_num_threads(1)
     return Simulation(load_scene(str(scene), list(overrides)))
 
 
