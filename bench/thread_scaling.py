@@ -106,7 +106,7 @@ def fluid_passes(steps, size="1e5"):
         ("lists: the water's half list", lambda: sv.fluid_neighbours.build(fl.pos, fl.pos), none, False),
         ("lists: all three (a rebuild)", sv.rebuild, none, False),
         ("density and eq. (7) (eq. (1))", lambda: summation_density(arrays, walls, nb, prm, work), keep, False),
-        ("wall pressure (Shepard)", lambda: wall_pressure(walls, fl.pos, work.p, nb, prm.h, prm.rho0), keep, False),
+        ("wall pressure (Shepard)", lambda: wall_pressure(walls, fl.pos, work.p, nb, prm.h, prm.rho0, prm.kernel), keep, False),
         ("position correction (eq. (2))", lambda: pressure_displacement(arrays, walls, nb, prm, work), keep, False),
         ("apply the correction", lambda: apply_displacement(fl.pos, work.disp, fl.correction_displacement,
                                                             nb.targets_at_build, work.moved2), keep, False),

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit, prange
 
-from .numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_w
+from .numerics.kernels import SUPPORT_RADIUS_IN_H, kernel_w
 
 KINDS = ("displacement", "point", "pressure", "water_height", "force")
 # water_height: the line is sampled at this fraction of a spacing
@@ -58,9 +58,10 @@ class ProbeSpec:
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def shepard_pressure(points, pos, mass, rho, pressure, h):
+def shepard_pressure(points, pos, mass, rho, pressure, h, kernel):
     """Shepard's average of the particles' pressure at each point (P, 3): sum_b V_b p_b W_b / sum_b V_b W_b over the
-    particles within 2h, V_b = m_b / rho_b; 0 where none is (docs/method.md, "Probes")."""
+    particles within 2h, V_b = m_b / rho_b, W the water's kernel (`kernel`: numerics/kernels.py's id); 0 where none
+    is (docs/method.md, "Probes")."""
     out = np.zeros(points.shape[0])
     reach2 = (SUPPORT_RADIUS_IN_H * h) ** 2
     for i in prange(points.shape[0]):
@@ -70,7 +71,7 @@ def shepard_pressure(points, pos, mass, rho, pressure, h):
             dx, dy, dz = pos[b, 0] - px, pos[b, 1] - py, pos[b, 2] - pz
             r2 = dx * dx + dy * dy + dz * dz
             if r2 < reach2:
-                w = mass[b] / rho[b] * cubic_spline_w(math.sqrt(r2), h)
+                w = mass[b] / rho[b] * kernel_w(math.sqrt(r2), h, kernel)
                 num += w * pressure[b]
                 den += w
         out[i] = num / den if den > 0.0 else 0.0
@@ -78,12 +79,12 @@ def shepard_pressure(points, pos, mass, rho, pressure, h):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def _line_fill(z, x, y, pos, volume, near, h):
+def _line_fill(z, x, y, pos, volume, near, h, kernel):
     """sum_b V_b W(|(x, y, z) - x_b|) over the particles `near`."""
     fill = 0.0
     for b in near:
         dx, dy, dz = pos[b, 0] - x, pos[b, 1] - y, pos[b, 2] - z
-        fill += volume[b] * cubic_spline_w(math.sqrt(dx * dx + dy * dy + dz * dz), h)
+        fill += volume[b] * kernel_w(math.sqrt(dx * dx + dy * dy + dz * dz), h, kernel)
     return fill
 
 
@@ -99,7 +100,7 @@ def _near_line(x, y, pos, reach):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, h, step):
+def surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, h, kernel, step):
     """Up the vertical line through (x, y) from z0: where the water and the walls stop filling the kernel, the first
     z at which sum_b V_b W(x - x_b) falls below FILLED (linear between samples `step` apart), less z0; 0 where the
     line is not filled at z0 (module docstring). The column standing on z0, as a wave gauge's wire is wetted from
@@ -114,8 +115,8 @@ def surface_height(x, y, z0, water_pos, water_volume, wall_pos, wall_volume, h, 
     n = int(math.ceil((top - z0) / step)) + 1
     for k in range(n):
         z = z0 + k * step
-        fill = _line_fill(z, x, y, water_pos, water_volume, water, h) + _line_fill(z, x, y, wall_pos, wall_volume,
-                                                                                    walls, h)
+        fill = (_line_fill(z, x, y, water_pos, water_volume, water, h, kernel)
+                + _line_fill(z, x, y, wall_pos, wall_volume, walls, h, kernel))
         if fill < FILLED:
             return 0.0 if k == 0 else (k - 1) * step + step * (previous - FILLED) / (previous - fill)
         previous = fill
@@ -152,7 +153,7 @@ class ProbeSet:
         if self.pressure:
             f = sim.fluid
             self._pressure_mean.add(shepard_pressure(self._points_now(sim), f.pos, f.mass, f.rho, f.pressure,
-                                                     sim.h), dt)
+                                                     sim.h, sim.fluid_kernel), dt)
         if self.forces:
             self._force_mean.add(self._forces(sim), dt)
 
@@ -209,7 +210,8 @@ class ProbeSet:
             for probe in self.heights:
                 x, y, z0 = probe.position
                 height = np.mean([surface_height(lx, ly, z0, water_pos, water_volume, wall_pos, wall_volume, sim.h,
-                                                 step) for lx, ly in _lines(x, y, probe.span, sim.spacing)])
+                                                 sim.fluid_kernel, step)
+                                  for lx, ly in _lines(x, y, probe.span, sim.spacing)])
                 out[probe.name] = ("water_height", {"height": float(height),
                                                     "surface": (float(x), float(y), float(z0 + height))})
         if self.forces:

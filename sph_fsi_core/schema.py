@@ -227,6 +227,11 @@ SOLID = [
 FLUID = [
     _p("fluid.density", 1000.0, "kg/m^3", "Rest density rho0 of the water (walls stand for the same density)",
        low=1.0, high=1.0e5),
+    _p("fluid.kernel", "cubic_spline", "",
+       "The water's smoothing kernel, support 2h: 'cubic_spline' (M4, the paper's eq. (1)) or 'wendland_c2' "
+       "(Wendland's C2, which keeps a flow ordered at h / dp 1.75-2 where the spline's pairs clump; "
+       "numerics/kernels.py, docs/validation/OPEN.md 7). The solid keeps the cubic spline", kind="str",
+       choices=("cubic_spline", "wendland_c2")),
     _p("fluid.viscosity", 1.0e-6, "m^2/s", "Kinematic viscosity nu of the laminar term, eq. (9) (Morris form)",
        low=0.0, high=1.0, rebuild=False),
     _p("fluid.density_tolerance", 0.01, "1",

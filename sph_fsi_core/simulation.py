@@ -19,7 +19,7 @@ from .diagnostics import Diverged, Watchdog
 from .fluid.lost_water import LostWater
 from .fluid.phase import FluidPhase
 from .jit_cache import start_parallel_runtime
-from .numerics.kernels import lattice_density_scale
+from .numerics.kernels import lattice_density_scale, water_kernel
 from .probes import ProbeSet, probe_columns
 from .scene import SceneSpec
 from .scenes import build_scene, interface
@@ -56,6 +56,7 @@ class Simulation:
         built, self.unreached_clamp = build_scene(self.spec.builder, v)
         self.spacing = v["numerics.spacing"]
         self.h = v["numerics.smoothing_ratio"] * self.spacing
+        self.fluid_kernel = water_kernel(v)   # numerics/kernels.py's id of the water's kernel (fluid.kernel)
         self.solid, self.fluid, self.walls = built.solid, built.fluid, built.walls
         self.domain_lo, self.domain_hi, self.period = built.domain_lo, built.domain_hi, built.period
         self.probes = built.probes
@@ -78,7 +79,8 @@ class Simulation:
         then released: gone at once, or (a lifted gate) moving from t = 0."""
         if self.solid is not None:
             self.coupling = Coupling(self.solid, self.fluid, self.h, self.period, v["fluid.density"],
-                                     lattice_density_scale(v["numerics.smoothing_ratio"]), model=v["coupling.model"],
+                                     lattice_density_scale(v["numerics.smoothing_ratio"], water_kernel(v)),
+                                     kernel=water_kernel(v), model=v["coupling.model"],
                                      gamma=v["coupling.gamma"], substeps=v["coupling.substeps"],
                                      relaxation=v["coupling.relaxation"],
                                      surface_threshold=v["coupling.surface_threshold"],

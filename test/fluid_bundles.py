@@ -4,6 +4,7 @@ import numpy as np
 
 from sph_fsi_core.fluid.okaji import FLUID_BLOCK_COLUMNS
 from sph_fsi_core.fluid.stepper import CorrectionParams, FluidArrays, FluidBuffers, FluidNeighbours, FluidWalls
+from sph_fsi_core.numerics.kernels import CUBIC_SPLINE
 from sph_fsi_core.numerics.neighbours import INDEX_DTYPE
 from sph_fsi_core.numerics.pair_blocks import block_scratch
 
@@ -36,8 +37,8 @@ def neighbours(fluid_list, wall_list=None, period=None, xz_periodic=None, crossi
                            fluid_list.targets_at_build, period, xz_periodic)
 
 
-def params(h, rho0=1000.0, c2=1.0, dt2=0.0):
-    return CorrectionParams(h, rho0, c2, dt2, 0.01, False, 1, 100, 0.0)
+def params(h, rho0=1000.0, c2=1.0, dt2=0.0, kernel=CUBIC_SPLINE):
+    return CorrectionParams(h, rho0, c2, dt2, 0.01, False, 1, 100, 0.0, kernel)
 
 
 def buffers(n, pairs, wall_pairs=0, chunks=2, **changes):

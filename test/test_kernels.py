@@ -228,3 +228,115 @@ def test_gradient_matches_finite_difference():
             assert np.linalg.norm(fd - grad) < 1e-6 * np.linalg.norm(grad), (q, fd, grad)
         checked += 1
     assert checked == 300
+
+
+# ---- Wendland's C2 kernel (fluid.kernel: wendland_c2) ----------------------------------------------------------
+def textbook_wendland_w(r, h):
+    """Wendland's C2 in 3D with support 2h (Wendland 1995; Dehnen & Aly 2012, table 1, with their H = 2h):
+    W = 21 / (16 pi h^3) (1 - q/2)^4 (2q + 1), q = r / h < 2."""
+    q = r / h
+    return 21.0 / (16.0 * math.pi * h ** 3) * (1.0 - 0.5 * q) ** 4 * (2.0 * q + 1.0) if q < 2.0 else 0.0
+
+
+def test_wendland_matches_the_formula_integrates_to_one_and_its_f_is_the_derivative():
+    from sph_fsi_core.numerics.kernels import (WENDLAND_C2, kernel_f, kernel_sigma, kernel_w, kernel_wf,
+                                               wendland_c2_normalisation)
+    x, wq = np.polynomial.legendre.leggauss(20)
+    for h in H_VALUES:
+        sigma = kernel_sigma(h, WENDLAND_C2)
+        assert sigma == wendland_c2_normalisation(h) == pytest.approx(21.0 / (16.0 * math.pi * h ** 3), rel=1e-15)
+        for q in Q_VALUES:
+            expected = textbook_wendland_w(q * h, h)
+            w, f = kernel_wf(q * h, 1.0 / h, sigma, WENDLAND_C2)
+            assert w == pytest.approx(expected, rel=1e-12, abs=0.0), (q, w, expected)
+            assert kernel_w(q * h, h, WENDLAND_C2) == pytest.approx(expected, rel=1e-12, abs=0.0)
+            assert kernel_f(q * h, h, WENDLAND_C2) == f
+            if q >= 2.0:
+                assert w == 0.0 and f == 0.0
+            elif q > 0.0:   # F = (dW/dr) / r against a central difference of the formula
+                eps = 1e-6 * h
+                dwdr = (textbook_wendland_w(q * h + eps, h) - textbook_wendland_w(q * h - eps, h)) / (2.0 * eps)
+                assert f * q * h == pytest.approx(dwdr, rel=1e-6, abs=1e-9 * sigma / h), (q, f * q * h, dwdr)
+        w0, f0 = kernel_wf(0.0, 1.0 / h, sigma, WENDLAND_C2)
+        assert w0 == sigma and f0 == pytest.approx(-5.0 * sigma / (h * h), rel=1e-15)   # W(0) and F's limit
+        # 4 pi int_0^2h r^2 W dr = 1 (Gauss-Legendre, exact for the degree-7 integrand)
+        r = h * (x + 1.0)
+        total = h * np.sum(wq * 4.0 * math.pi * r * r * np.array([kernel_w(ri, h, WENDLAND_C2) for ri in r]))
+        assert total == pytest.approx(1.0, abs=1e-12)
+
+
+def test_the_water_kernels_cubic_spline_is_the_splines_to_the_bit():
+    from sph_fsi_core.numerics.kernels import (CUBIC_SPLINE, cubic_spline_wf, kernel_f, kernel_normalisation,
+                                               kernel_sigma, kernel_w, kernel_wf)
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        h = 10 ** rng.uniform(-4, 0)
+        r = rng.uniform(0.0, 2.2) * h
+        sigma = kernel_sigma(h, CUBIC_SPLINE)
+        assert sigma == kernel_normalisation(h)
+        assert kernel_wf(r, 1.0 / h, sigma, CUBIC_SPLINE) == cubic_spline_wf(r, 1.0 / h, sigma)
+        assert kernel_w(r, h, CUBIC_SPLINE) == cubic_spline_w(r, h)
+        assert kernel_f(r, h, CUBIC_SPLINE) == cubic_spline_f(r, h)
+
+
+@pytest.mark.parametrize("ratio", (1.3, 2.0))
+def test_a_full_lattice_sums_to_rho0_with_either_kernel(ratio):
+    """The water's masses (lattice_density_scale of its kernel) make a periodic lattice's summation density rho0,
+    through the fluid solver's own density pass, to round-off; the scale itself against a brute-force sum of the
+    textbook formulas over the lattice."""
+    from sph_fsi_core.fluid.solver import FluidSolver
+    from sph_fsi_core.numerics.kernels import KERNELS, lattice_density_scale
+    from sph_fsi_core.state import FluidState
+    dp, n = 0.01, 10
+    g = (np.arange(n) + 0.5) * dp
+    pos = np.ascontiguousarray(np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3))
+    period = np.full(3, n * dp)
+    brute = {"cubic_spline": textbook_w, "wendland_c2": textbook_wendland_w}
+    d = np.linalg.norm(_lattice(1.0, int(np.ceil(2.0 * ratio)) + 1), axis=1)
+    for name, kernel in KERNELS.items():
+        scale = lattice_density_scale(ratio, kernel)
+        assert scale == pytest.approx(1.0 / sum(brute[name](x, ratio) for x in d), rel=1e-13)
+        water = FluidState.at_rest(pos.copy(), 1000.0, dp, mass_scale=scale)
+        solver = FluidSolver(water, None, ratio * dp, period, np.zeros(3), period, 0.1 * ratio * dp, kernel)
+        solver.configure(1000.0, 1e-6, (0.0, 0.0, 0.0), 0.01, "max", 0.0, 1.0, 0, 10)
+        solver.density()
+        assert np.abs(water.rho - 1000.0).max() < 1e-10, (name, np.abs(water.rho - 1000.0).max())
+    # the two kernels' scales differ (the masses do follow the kernel)
+    assert abs(lattice_density_scale(ratio, KERNELS["wendland_c2"]) - lattice_density_scale(ratio)) > 1e-4
+
+
+def test_the_waters_probes_and_push_on_a_solid_take_its_kernel():
+    """With Wendland's C2 the water's pressure probe (probes.shepard_pressure) and the 'pressure' coupling's pair
+    forces on a solid (coupling/forces.pressure_pair_forces) equal brute-force sums of the textbook kernel over
+    every pair, and differ from the cubic spline's by far more than round-off."""
+    from sph_fsi_core.coupling.forces import pressure_pair_forces
+    from sph_fsi_core.numerics.kernels import CUBIC_SPLINE, WENDLAND_C2
+    from sph_fsi_core.probes import shepard_pressure
+    rng = np.random.default_rng(17)
+    h = 0.01
+    water = rng.uniform(0.0, 0.05, (300, 3))
+    mass = rng.uniform(0.9e-3, 1.1e-3, 300)
+    rho = rng.uniform(990.0, 1010.0, 300)
+    pressure = rng.uniform(0.0, 500.0, 300)
+    points = rng.uniform(0.01, 0.04, (7, 3))
+    got = shepard_pressure(points, water, mass, rho, pressure, h, WENDLAND_C2)
+    for i, x in enumerate(points):
+        w = np.array([textbook_wendland_w(r, h) for r in np.linalg.norm(water - x, axis=1)]) * mass / rho
+        assert got[i] == pytest.approx((w * pressure).sum() / w.sum(), rel=1e-12)
+    assert np.abs(got - shepard_pressure(points, water, mass, rho, pressure, h, CUBIC_SPLINE)).max() > 1e-3
+
+    solid = rng.uniform(0.01, 0.04, (9, 3))
+    solid_mass, solid_p = rng.uniform(1e-3, 2e-3, 9), rng.uniform(0.0, 300.0, 9)
+    nl = NeighbourList(2.0 * h, 0.1 * h)
+    nl.build(solid, water)
+    force = np.zeros((9, 3))
+    pressure_pair_forces(solid, solid_mass, solid_p, nl.start, nl.index, water, mass, pressure, np.zeros(3), h,
+                         WENDLAND_C2, 1000.0, force)
+    for s in range(9):
+        d = water - solid[s]                     # r_u - r_t
+        r = np.linalg.norm(d, axis=1)
+        q = r / h
+        f = np.where(q < 2.0, -5.0 * 21.0 / (16.0 * math.pi * h ** 5) * np.clip(1.0 - 0.5 * q, 0.0, None) ** 3, 0.0)
+        c = solid_mass[s] * mass * (solid_p[s] + pressure) / 1000.0 ** 2 * f
+        np.testing.assert_allclose(force[s], (c[:, None] * d).sum(axis=0), rtol=1e-11, atol=1e-14)
+    assert np.abs(force).max() > 1e-6

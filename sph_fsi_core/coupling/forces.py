@@ -6,7 +6,7 @@ import math
 from numba import njit, prange
 
 from ..fluid.okaji import shepard_sums
-from ..numerics.kernels import cubic_spline_wf, kernel_normalisation, support_squared
+from ..numerics.kernels import cubic_spline_wf, kernel_normalisation, kernel_sigma, kernel_wf, support_squared
 from ..numerics.neighbours import unsigned
 from ..numerics.periodic import minimum_image
 
@@ -59,17 +59,17 @@ def surface_normals(gradient, surface, normal):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid, inv_dt2, period, h, gamma, acc):
+def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid, inv_dt2, period, h, kernel, gamma, acc):
     """Eqs. (10)-(11): acc_a = gamma sum_b (m_b / rho_b) (adot_b . n_a) W_ab (-n_a), adot_b = correction_b / dt^2,
     over the fluid neighbours b of solid surface particle a (solid->fluid list). Zero on interior and clamp
     particles. `fluid`: fluid.stepper.FluidArrays (positions, masses, densities and the step's correction
-    displacements)."""
+    displacements); W the water's kernel (`kernel`: numerics/kernels.py's id)."""
     fluid_pos = fluid.pos
     fluid_mass = fluid.mass
     fluid_rho = fluid.rho
     correction = fluid.correction_displacement
     inv_h = 1.0 / h
-    sigma = kernel_normalisation(h)
+    sigma = kernel_sigma(h, kernel)
     support2 = support_squared(h)
     half_period = 0.5 * period
     for a in prange(solid_pos.shape[0]):
@@ -85,7 +85,7 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid, inv_
             _, _, _, r2 = _separation(solid_pos, a, fluid_pos, b, period, half_period)
             if r2 >= support2:
                 continue
-            w, _ = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            w, _ = kernel_wf(math.sqrt(r2), inv_h, sigma, kernel)
             proj = (correction[b, 0] * nx + correction[b, 1] * ny + correction[b, 2] * nz) * inv_dt2
             s += fluid_mass[b] / fluid_rho[b] * proj * w
         acc[a, 0] = -gamma * s * nx
@@ -94,21 +94,22 @@ def seed_push(solid_pos, normal, surface, movable, sfstart, sfindex, fluid, inv_
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h, out):
+def shepard_pressure(solid_pos, sfstart, sfindex, fluid_pos, fluid_p, period, h, kernel, out):
     """P_s = sum_f P_f W_sf / sum_f W_sf over the fluid neighbours of solid particle s (0 without any): the
-    pressure a solid particle carries as a wall (the fluid's own rule and sums, okaji.shepard_sums, on the step's
-    summed P, the image on every axis)."""
+    pressure a solid particle carries as a wall (the fluid's own rule, kernel and sums, okaji.shepard_sums, on the
+    step's summed P, the image on every axis)."""
     inv_h = 1.0 / h
-    sigma = kernel_normalisation(h)
+    sigma = kernel_sigma(h, kernel)
     half_period = 0.5 * period
     for s in prange(solid_pos.shape[0]):
         num, den = shepard_sums(s, s, solid_pos, fluid_pos, fluid_p, sfstart, sfindex, period, half_period, inv_h,
-                                sigma, True, True, True)
+                                sigma, kernel, True, True, True)
         out[s] = num / den if den > 0.0 else 0.0
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def pressure_pair_forces(pos, mass, p, start, index, other_pos, other_mass, other_p, period, h, rho0, force):
+def pressure_pair_forces(pos, mass, p, start, index, other_pos, other_mass, other_p, period, h, kernel, rho0,
+                         force):
     """'pressure' model: the force on each target t from its neighbours u in the other phase (a gather over one
     list), F_t = sum_u m_t m_u (P_t + P_u) / rho0^2 grad_u W_ut,  grad_u W_ut = F_tu (r_u - r_t).
 
@@ -117,9 +118,9 @@ def pressure_pair_forces(pos, mass, p, start, index, other_pos, other_mass, othe
     grad_a W_as; with the water as targets (fluid->solid list) the reaction, bookkeeping only (the fluid already
     felt it in its correction, eq. (2) with the solid as a wall), which sums to minus the solid's side. The pair's
     coefficient reads the same either way (IEEE products and sums commute exactly) and r_u - r_t = -(r_t - r_u)
-    exactly, so each side has the bits of a pass of its own."""
+    exactly, so each side has the bits of a pass of its own. grad W of the water's kernel (`kernel`: its id)."""
     inv_h = 1.0 / h
-    sigma = kernel_normalisation(h)
+    sigma = kernel_sigma(h, kernel)
     support2 = support_squared(h)
     inv_rho2 = 1.0 / (rho0 * rho0)
     half_period = 0.5 * period
@@ -132,7 +133,7 @@ def pressure_pair_forces(pos, mass, p, start, index, other_pos, other_mass, othe
             dx, dy, dz, r2 = _separation(other_pos, u, pos, t, period, half_period)
             if r2 >= support2:
                 continue
-            _, f = cubic_spline_wf(math.sqrt(r2), inv_h, sigma)
+            _, f = kernel_wf(math.sqrt(r2), inv_h, sigma, kernel)
             c = mass[t] * other_mass[u] * (p[t] + other_p[u]) * inv_rho2 * f
             fx += c * dx
             fy += c * dy

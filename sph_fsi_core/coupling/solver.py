@@ -49,7 +49,7 @@ import numpy as np
 from .forces import (pressure_pair_forces, seed_push, shepard_pressure, solid_wall_mass, surface_gradient,
                      surface_normals)
 from ..fluid.stepper import FluidArrays
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..numerics.kernels import CUBIC_SPLINE, SUPPORT_RADIUS_IN_H
 from ..numerics.neighbours import NeighbourList
 
 MODELS = ("seed", "pressure")
@@ -61,11 +61,13 @@ class Coupling:
     """
 
     def __init__(self, solid, fluid, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
-                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None):
+                 substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None,
+                 kernel=CUBIC_SPLINE):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         self.solid, self.fluid = solid, fluid
         self.h = float(h)
+        self.kernel = int(kernel)     # the water's (fluid.kernel); the solid's surface is found with the spline
         self.period = np.asarray(period, dtype=np.float64)
         self.rho0 = float(fluid_rho0)
         self.configure(model, gamma, substeps, relaxation)
@@ -123,7 +125,7 @@ class Coupling:
             nb.update(pos, f.pos)
             self.refresh_normals()
             seed_push(pos, s.surface_normal, self.surface, s.movable, nb.start, nb.index, FluidArrays.of(f),
-                      1.0 / (dt * dt), self.period, self.h, self.gamma, self.acc)
+                      1.0 / (dt * dt), self.period, self.h, self.kernel, self.gamma, self.acc)
         else:
             self.pressure_forces()
             self.acc[:] = self.force / s.mass[:, None]
@@ -161,9 +163,9 @@ class Coupling:
         nb = self.fluid_neighbours
         pos = s.pos
         nb.update(pos, f.pos)
-        shepard_pressure(pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.solid_p)
+        shepard_pressure(pos, nb.start, nb.index, f.pos, f.pressure, self.period, self.h, self.kernel, self.solid_p)
         pressure_pair_forces(pos, self.wall_mass, self.solid_p, nb.start, nb.index, f.pos, f.mass, f.pressure,
-                             self.period, self.h, self.rho0, self.force)
+                             self.period, self.h, self.kernel, self.rho0, self.force)
         return self.force
 
     def fluid_side_forces(self):
@@ -176,7 +178,7 @@ class Coupling:
         nb.build(f.pos, pos)
         out = np.zeros((f.count, 3))
         pressure_pair_forces(f.pos, f.mass, f.pressure, nb.start, nb.index, pos, self.wall_mass, self.solid_p,
-                             self.period, self.h, self.rho0, out)
+                             self.period, self.h, self.kernel, self.rho0, out)
         return out
 
     def substeps(self, fluid_dt, solid_dt_limit):

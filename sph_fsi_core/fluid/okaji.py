@@ -36,7 +36,7 @@ import math
 
 from numba import njit, prange
 
-from ..numerics.kernels import cubic_spline_wf, kernel_normalisation
+from ..numerics.kernels import kernel_sigma, kernel_wf
 from ..numerics.neighbours import chunk_first_target, unsigned
 from ..numerics.periodic import minimum_image_if
 from ..numerics.pair_blocks import BLOCK, FAR_IN_H, STRIDE, kernel_block, pad_block, padded
@@ -58,8 +58,8 @@ DENSITY_BLOCK_COLUMNS = 3
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_period, h, inv_h, sigma, block,
-                 f_cache, scatter_mass, out, on_x, on_y, on_z):
+def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_period, h, inv_h, sigma, kernel,
+                 block, f_cache, scatter_mass, out, on_x, on_y, on_z):
     """Eq. (1)'s sum over one neighbour row (index[k0:k1] into src_pos), in blocks: returns s + sum_b m_b W_ab
     (added in the row's order) and leaves F_ab in f_cache[k0:k1]; with scatter_mass > 0 (a half list of the fluid)
     also adds scatter_mass W_ab to out[b]. Pairs in the list's skin give W = F = 0 and change no sum. on_x, on_y,
@@ -73,7 +73,7 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
             dz = minimum_image_if(za - src_pos[b, 2], period[2], half_period[2], on_z)
             block[_R2 * STRIDE + j] = dx * dx + dy * dy + dz * dz
         pad_block(block, m, _R2, (FAR_IN_H * h) ** 2, 0, 0, 0.0)
-        kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma)
+        kernel_block(block, _R2, _W, _F, padded(m), inv_h, sigma, kernel)
         for j in range(m):
             b = index[unsigned(lo + j)]
             w = block[_W * STRIDE + j]
@@ -86,15 +86,16 @@ def _density_row(s, xa, ya, za, src_pos, src_mass, index, k0, k1, period, half_p
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period, half_period, h, inv_h,
-                    sigma, block, f_fluid, f_wall, out, on_x, on_y, on_z):
-    """Target a's density sum: its own pair, its fluid row (scattered to b as well) and its wall row."""
+                    sigma, kernel, block, f_fluid, f_wall, out, on_x, on_y, on_z):
+    """Target a's density sum: its own pair (W(0) = sigma), its fluid row (scattered to b as well) and its wall
+    row."""
     xa, ya, za = pos[a, 0], pos[a, 1], pos[a, 2]
     ma = mass[a]
     s = ma * sigma
     s = _density_row(s, xa, ya, za, pos, mass, findex, fstart[a], fstart[a + 1], period, half_period, h, inv_h,
-                     sigma, block, f_fluid, ma, out, on_x, on_y, on_z)
+                     sigma, kernel, block, f_fluid, ma, out, on_x, on_y, on_z)
     return _density_row(s, xa, ya, za, wall_pos, wall_mass, windex, wstart[a], wstart[a + 1], period, half_period,
-                        h, inv_h, sigma, block, f_wall, 0.0, out, on_x, on_y, on_z)
+                        h, inv_h, sigma, kernel, block, f_wall, 0.0, out, on_x, on_y, on_z)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
@@ -109,9 +110,9 @@ def summation_density(fluid, walls, neighbours, prm, work):
     (pair_blocks.py; work.blocks: per-chunk scratch of DENSITY_BLOCK_COLUMNS columns); work.density_buf (chunks, N)
     holds the per-chunk sums (a column of the passes' (chunks, N, 3) buffer measured 1.08x slower: a third of each
     cache line used). `fluid`: fluid.stepper.FluidArrays, `walls`: FluidWalls, `neighbours`: FluidNeighbours,
-    `prm`: CorrectionParams (h, rho0, c2), `work`: FluidBuffers. The arrays are taken out of the bundles here, once,
-    and the per-target functions take them as arrays: taking the bundles (and tuples of arrays) they cost the tank
-    and the dam break 0.91-0.92x per step.
+    `prm`: CorrectionParams (h, rho0, c2, kernel), `work`: FluidBuffers. The arrays are taken out of the bundles
+    here, once, and the per-target functions take them as arrays: taking the bundles (and tuples of arrays) they cost
+    the tank and the dam break 0.91-0.92x per step.
     """
     _summation_density(fluid, walls, neighbours, prm, work, neighbours.xz_periodic)
 
@@ -141,8 +142,9 @@ def _summation_density(fluid, walls, neighbours, prm, work, xz_periodic):
     blocks = work.blocks
     n = pos.shape[0]
     chunks = density_buf.shape[0]
+    kernel = prm.kernel
     inv_h = 1.0 / h
-    sigma = kernel_normalisation(h)
+    sigma = kernel_sigma(h, kernel)
     half_period = 0.5 * period
     for c in prange(chunks):
         out = density_buf[c]
@@ -152,13 +154,16 @@ def _summation_density(fluid, walls, neighbours, prm, work, xz_periodic):
         for a in range(chunk_first_target(fstart, c, chunks), chunk_first_target(fstart, c + 1, chunks)):
             if xz_periodic is not None:
                 s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
-                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, True, True, True)
+                                    half_period, h, inv_h, sigma, kernel, block, f_fluid, f_wall, out, True, True,
+                                    True)
             elif crossing[a]:
                 s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
-                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, False, True, False)
+                                    half_period, h, inv_h, sigma, kernel, block, f_fluid, f_wall, out, False, True,
+                                    False)
             else:
                 s = _density_target(a, pos, mass, fstart, findex, wall_pos, wall_mass, wstart, windex, period,
-                                    half_period, h, inv_h, sigma, block, f_fluid, f_wall, out, False, False, False)
+                                    half_period, h, inv_h, sigma, kernel, block, f_fluid, f_wall, out, False, False,
+                                    False)
             out[a] += s
     for a in prange(n):
         s = 0.0
@@ -189,7 +194,8 @@ def compression_error(rho, rho0):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
-def shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma, on_x, on_y, on_z):
+def shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma, kernel, on_x, on_y,
+                 on_z):
     """(sum_f p_f W_wf, sum_f W_wf) over row i of the wall->fluid list, that of wall particle w: the two sums of
     the wall's Shepard pressure (module docstring; also the coupling's solid particles, coupling/forces.py). A pair
     in the list's skin adds W = 0 to both."""
@@ -200,24 +206,24 @@ def shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, 
         dx = minimum_image_if(wall_pos[w, 0] - pos[f, 0], period[0], half_period[0], on_x)
         dy = minimum_image_if(wall_pos[w, 1] - pos[f, 1], period[1], half_period[1], on_y)
         dz = minimum_image_if(wall_pos[w, 2] - pos[f, 2], period[2], half_period[2], on_z)
-        kern, _ = cubic_spline_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma)
+        kern, _ = kernel_wf(math.sqrt(dx * dx + dy * dy + dz * dz), inv_h, sigma, kernel)
         num += p[f] * kern
         den += kern
     return num, den
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def wall_pressure(walls, pos, p, neighbours, h, rho0):
+def wall_pressure(walls, pos, p, neighbours, h, rho0, kernel):
     """Wall pressure for eq. (2): p_w = sum_f p_f W_wf / sum_f W_wf over fluid neighbours f of wall particle w
     (0 without any), stored as p_w / rho0^2 in walls.p_over_rho2, for the wall particles within reach of the water
     (neighbours.active_walls; row i of the wall->fluid list belongs to wall particle active_walls[i]). The others
     have no fluid neighbour and keep p_w = 0, at no cost. `walls`: fluid.stepper.FluidWalls; `pos`, `p`: the
-    fluid's positions and pressures; `neighbours`: FluidNeighbours."""
-    _wall_pressure(walls, pos, p, neighbours, h, rho0, neighbours.xz_periodic)
+    fluid's positions and pressures; `neighbours`: FluidNeighbours; `kernel`: numerics/kernels.py's id."""
+    _wall_pressure(walls, pos, p, neighbours, h, rho0, kernel, neighbours.xz_periodic)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def _wall_pressure(walls, pos, p, neighbours, h, rho0, xz_periodic):
+def _wall_pressure(walls, pos, p, neighbours, h, rho0, kernel, xz_periodic):
     """wall_pressure with neighbours.xz_periodic as an argument of its own (module docstring)."""
     wall_pos = walls.pos
     wall_p_over_rho2 = walls.p_over_rho2
@@ -227,19 +233,19 @@ def _wall_pressure(walls, pos, p, neighbours, h, rho0, xz_periodic):
     period = neighbours.period
     crossing = neighbours.wall_crossing
     inv_h = 1.0 / h
-    sigma = kernel_normalisation(h)
+    sigma = kernel_sigma(h, kernel)
     half_period = 0.5 * period
     for i in prange(active.shape[0]):
         w = active[i]
         if xz_periodic is not None:
             num, den = shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
-                                    True, True, True)
+                                    kernel, True, True, True)
         elif crossing[i]:
             num, den = shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
-                                    False, True, False)
+                                    kernel, False, True, False)
         else:
             num, den = shepard_sums(w, i, wall_pos, pos, p, wfstart, wfindex, period, half_period, inv_h, sigma,
-                                    False, False, False)
+                                    kernel, False, False, False)
         wall_p_over_rho2[w] = num / den / (rho0 * rho0) if den > 0.0 else 0.0
 
 

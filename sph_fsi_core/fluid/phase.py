@@ -11,6 +11,7 @@ import time as _time
 import numpy as np
 
 from ..errors import SceneError
+from ..numerics.kernels import KERNELS
 from .energy import mechanical_energy
 from .solver import FluidSolver
 
@@ -72,7 +73,7 @@ class FluidPhase:
         self.boundary = boundary
         walls = boundary if boundary.count else None
         self.solver = FluidSolver(self.fluid, walls, self.h, self.period, self.box_lo, self.box_hi,
-                                  self.values["numerics.neighbour_skin"] * self.h)
+                                  self.values["numerics.neighbour_skin"] * self.h, KERNELS[self.values["fluid.kernel"]])
         self.configure(self.values)
         self.last_error_max, self.last_error_mean = self.solver.density()
 

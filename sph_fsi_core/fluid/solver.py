@@ -40,7 +40,7 @@ from .okaji import (FLUID_BLOCK_COLUMNS, compression_error, gravity_and_predicto
 from .stepper import (CAPPED, NEEDS_REBUILD, CorrectionParams, FluidArrays, FluidBuffers, FluidNeighbours,
                       FluidWalls, correction_loop)
 from .wall_forces import wall_group_forces
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..numerics.kernels import CUBIC_SPLINE, SUPPORT_RADIUS_IN_H
 from ..numerics.neighbours import INDEX_DTYPE, NeighbourList, inside_box, named_in, position_bounds
 from ..numerics.pair_blocks import block_scratch
 
@@ -63,10 +63,11 @@ class StepReport(NamedTuple):
 class FluidSolver:
     """The fluid's work arrays, neighbour lists and settings; `step(dt)` advances the fluid by one step."""
 
-    def __init__(self, fluid, walls, h, period, box_lo, box_hi, skin):
+    def __init__(self, fluid, walls, h, period, box_lo, box_hi, skin, kernel=CUBIC_SPLINE):
         self.fluid = fluid
         self.walls = walls
         self.h = float(h)
+        self.kernel = int(kernel)     # numerics/kernels.py's id (fluid.kernel)
         self.period = np.asarray(period, dtype=np.float64)
         self.box_lo = np.asarray(box_lo if box_lo is not None else np.zeros(3), dtype=np.float64)
         n = fluid.count
@@ -190,7 +191,7 @@ class FluidSolver:
     def correction_params(self, c, dt):
         """The correction's numbers for a step of `dt` at eq. (7)'s `c` (correction_c)."""
         return CorrectionParams(self.h, self.rho0, c * c, dt * dt, self.tolerance, self.on_mean, self.min_iterations,
-                                self.max_iterations, 0.5 * self.skin)
+                                self.max_iterations, 0.5 * self.skin, self.kernel)
 
     def density(self):
         """Eq. (1) at the current positions (lists must be valid); returns (max, mean) compression."""
@@ -226,9 +227,9 @@ class FluidSolver:
         walls = self.wall_arrays(np.zeros(len(self.wall_mass)))
         neighbours = self.neighbours()
         if len(self.active_walls):
-            wall_pressure(walls, fl.pos, fl.pressure, neighbours, self.h, self.rho0)
+            wall_pressure(walls, fl.pos, fl.pressure, neighbours, self.h, self.rho0, self.kernel)
         return wall_group_forces(FluidArrays.of(fl), walls, np.ascontiguousarray(group, dtype=np.int64), neighbours,
-                                 self.h, int(count), np.zeros((self.buf.shape[0], int(count), 3)))
+                                 self.h, self.kernel, int(count), np.zeros((self.buf.shape[0], int(count), 3)))
 
     def correction_c(self, dt):
         """c of eq. (7): fluid.correction_coefficient, or kappa h / dt when that is 0 (module docstring)."""

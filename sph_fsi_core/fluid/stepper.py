@@ -59,6 +59,7 @@ class CorrectionParams(NamedTuple):
     min_iterations: int
     max_iterations: int    # the cap: reaching it ends the step as CAPPED
     half_skin: float       # m, a particle moved further than this since the build needs new lists
+    kernel: int            # numerics/kernels.py's id of the water's kernel (fluid.kernel)
 
 
 class FluidBuffers(NamedTuple):
@@ -113,7 +114,7 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last
         if it >= prm.max_iterations:
             return it, emax, emean, CAPPED
         if walls.pos.shape[0] > 0:
-            wall_pressure(walls, pos, work.p, neighbours, prm.h, prm.rho0)
+            wall_pressure(walls, pos, work.p, neighbours, prm.h, prm.rho0, prm.kernel)
         pressure_displacement(fluid, walls, neighbours, prm, work)
         if partial:
             last_p[:] = work.p

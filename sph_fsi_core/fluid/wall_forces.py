@@ -12,18 +12,18 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H, cubic_spline_f
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, kernel_f
 from ..numerics.neighbours import chunk_first_target, unsigned
 from ..numerics.periodic import minimum_image
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def wall_group_forces(fluid, walls, group, neighbours, h, groups, buf):
+def wall_group_forces(fluid, walls, group, neighbours, h, kernel, groups, buf):
     """(groups, 3) N: sum over fluid particles a and their wall neighbours w with group[w] = g >= 0 of
     m_a m_w (P_a / rho_a^2 + q_w) F_aw (r_a - r_w), F = (dW/dr) / r, into row g (the water's push on group g;
     q_w = P_w / rho0^2). `fluid`: fluid.stepper.FluidArrays (P_a its step's summed pressure); `walls`: FluidWalls
-    (q_w its p_over_rho2); `neighbours`: FluidNeighbours (its fluid->wall list); `buf`: (chunks, groups, 3)
-    scratch."""
+    (q_w its p_over_rho2); `neighbours`: FluidNeighbours (its fluid->wall list); `kernel`: numerics/kernels.py's
+    id; `buf`: (chunks, groups, 3) scratch."""
     pos = fluid.pos
     mass = fluid.mass
     rho = fluid.rho
@@ -53,7 +53,7 @@ def wall_group_forces(fluid, walls, group, neighbours, h, groups, buf):
                 r = math.sqrt(dx * dx + dy * dy + dz * dz)
                 if r >= reach:
                     continue
-                coef = mass[a] * wall_mass[w] * (qa + wall_q[w]) * cubic_spline_f(r, h)
+                coef = mass[a] * wall_mass[w] * (qa + wall_q[w]) * kernel_f(r, h, kernel)
                 out[g, 0] += coef * dx
                 out[g, 1] += coef * dy
                 out[g, 2] += coef * dz

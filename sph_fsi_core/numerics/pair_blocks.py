@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernels import cubic_spline_wf
+from .kernels import WENDLAND_C2, cubic_spline_wf, wendland_c2_wf
 from .neighbours import unsigned
 from .periodic import minimum_image
 
@@ -106,11 +106,16 @@ def minimum_image_block(block, col_x, m, period, half_period):
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", nogil=True)
-def kernel_block(block, col_r2, col_w, col_f, m, inv_h, sigma):
-    """The M4 kernel of eq. (1) for the m pairs of a block: W (col_w) and F = (dW/dr)/r (col_f) from r^2 (col_r2),
-    by kernels.cubic_spline_wf (whose one branch LLVM turns into a select)."""
+def kernel_block(block, col_r2, col_w, col_f, m, inv_h, sigma, kernel):
+    """Eq. (1)'s kernel for the m pairs of a block: W (col_w) and F = (dW/dr)/r (col_f) from r^2 (col_r2), by
+    kernels.cubic_spline_wf (whose one branch LLVM turns into a select) or, kernel = WENDLAND_C2, wendland_c2_wf;
+    sigma = kernels.kernel_sigma(h, kernel). One loop per kernel, so each runs in SIMD lanes."""
     w0 = col_w * STRIDE
     f0 = col_f * STRIDE
     r0 = col_r2 * STRIDE
-    for j in range(m):
-        block[w0 + j], block[f0 + j] = cubic_spline_wf(math.sqrt(block[r0 + j]), inv_h, sigma)
+    if kernel == WENDLAND_C2:
+        for j in range(m):
+            block[w0 + j], block[f0 + j] = wendland_c2_wf(math.sqrt(block[r0 + j]), inv_h, sigma)
+    else:
+        for j in range(m):
+            block[w0 + j], block[f0 + j] = cubic_spline_wf(math.sqrt(block[r0 + j]), inv_h, sigma)

@@ -9,7 +9,7 @@ particles a run starts from.
 """
 from dataclasses import replace
 
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale, water_kernel
 from . import geometry
 from ..errors import SceneError
 from ..geometry.parts import list_entries
@@ -61,4 +61,4 @@ def build_scene(builder, values):
     spacing = values["numerics.spacing"]
     h = values["numerics.smoothing_ratio"] * spacing
     return without_unreached_clamp(built, SUPPORT_RADIUS_IN_H * h + spacing, values.get("fluid.density", 0.0),
-                                   lattice_density_scale(values["numerics.smoothing_ratio"]))
+                                   lattice_density_scale(values["numerics.smoothing_ratio"], water_kernel(values)))

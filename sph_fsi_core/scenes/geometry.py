@@ -42,7 +42,7 @@ from ..geometry.lattice import Lattice, filled, site_keys
 from ..geometry.part_motion import part_motion
 from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of
 from ..motion import Commanded, Table
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale
+from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale, water_kernel
 from ..probes import ProbeSpec, probe_columns
 from ..errors import plain
 from ..schema import Param, SceneError
@@ -457,7 +457,7 @@ def build(values):
                          f"no site at numerics.spacing = {dp:g} m (move or shrink one)")
     by_role = {role: [(p, q) for p, q in zip(parts, placed) if p.role == role]
                for role in ("water", "wall", "gate", "solid")}
-    scale = lattice_density_scale(values["numerics.smoothing_ratio"])
+    scale = lattice_density_scale(values["numerics.smoothing_ratio"], water_kernel(values))
     built = Built()
     index = {}
     water = by_role["water"]
@@ -659,8 +659,9 @@ def _lift_travel(built, values):
 def _domain(values, built):
     """The domain box: geometry.domain_lo .. domain_hi where the scene gives them, else every particle's box (a
     lifted gate's whole travel and the moving walls' sweep included: _swept) and `geometry.domain_margin` beyond it
-    (0: a tenth of its largest extent, at least 10 h), along a periodic axis the period from the lattice's origin. Along a periodic axis the box places the
-    neighbour lists' cells (numerics/neighbours.cell_grid), so its bits are the run's."""
+    (0: a tenth of its largest extent, at least 10 h), along a periodic axis the period from the lattice's origin.
+    Along a periodic axis the box places the neighbour lists' cells (numerics/neighbours.cell_grid), so its bits
+    are the run's."""
     pos = [s.pos for s in (built.solid, built.fluid, built.walls, built.release_walls) if s is not None]
     if built.release_velocity is not None:
         travel = built.release_velocity / np.linalg.norm(built.release_velocity) * built.release_travel

@@ -76,7 +76,7 @@ def correction_loop(it_start, fluid, walls, neighbours, prm, work, partial, last
         if it >= prm.max_iterations:
             return it, emax, emean, CAPPED
         if walls.pos.shape[0] > 0:
-            wall_pressure(walls, fluid.pos, work.p, neighbours, prm.h, prm.rho0)
+            wall_pressure(walls, fluid.pos, work.p, neighbours, prm.h, prm.rho0, prm.kernel)
         pressure_displacement(fluid, walls, neighbours, prm, work)
         background_displacement(fluid.pos, fluid.mass, work.p_over_rho2, neighbours.fluid_start,
                                 neighbours.fluid_index, work.f_fluid, fluid.pos, fluid.mass, True, neighbours.period,

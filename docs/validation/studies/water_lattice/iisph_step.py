@@ -37,7 +37,8 @@ def prototype_module():
         elif inside and line.startswith("+") and not line.startswith("+++"):
             lines.append(line[1:])
     source = "".join(lines).replace("from .", "from sph_fsi_core.fluid.").replace(
-        "from sph_fsi_core.fluid..numerics", "from sph_fsi_core.numerics")
+        "from sph_fsi_core.fluid..numerics", "from sph_fsi_core.numerics").replace(
+        "prm.h, prm.rho0)", "prm.h, prm.rho0, prm.kernel)")   # wall_pressure takes the water's kernel since
     path = os.path.join(tempfile.mkdtemp(), "iisph_prototype.py")
     with open(path, "w") as out:
         out.write(source)

@@ -1,7 +1,7 @@
 """The study's experiment scripts' pair sums (particle_shifting.py, background_split.py, corrected_velocity.py): pairs
 within a radius from scipy's periodic k-d tree and the M4 cubic spline (numerics/kernels.py's) on arrays of them,
-its own copy so that a worktree with wendland_kernel.patch smooths and sums as this one does. Experiments, not
-solver passes: a step's pairs are found anew each call.
+its own copy, so the scripts smooth and sum with the spline whatever the water's kernel (fluid.kernel; the rows
+with Wendland's C2 were run so). Experiments, not solver passes: a step's pairs are found anew each call.
 """
 import math
 
