@@ -13,6 +13,12 @@ compared only within one process. Numba's cache of the copy lives in the tempora
 this checkout's is its own source-keyed one (sph_fsi_core/jit_cache.py). The solid's arrays are compared
 on its moving particles and its clamp's apart (a version may leave out a clamp's unreached particles); the speed is
 given per particle-step and per simulated second, which counts a particle left out as work saved.
+
+The order's bias: the package loaded and built second runs slower in the same process whatever the code. HEAD
+against itself reads 0.93x on `lobovsky_dam_break` (80 rounds), and pass by pass the second package's wall pressure
+takes 2.7x the first's, its density pass 1.27x; with `--this-first` the bias turns round, and two simulations of
+one package in one process show none (docs/performance/BENCH.md, "Two threads, two speeds"). So a speed-up is
+measured twice, once in each order (each run a process of its own), and the geometric mean of the two is taken.
 """
 import argparse
 import importlib
@@ -28,6 +34,7 @@ import numpy as np
 import sph_fsi_core  # noqa: F401  (first: this checkout's Numba cache is set up before the copy's kernels exist)
 
 ROOT = Path(__file__).resolve().parents[1]
+THIS = "this checkout"
 
 
 def export(ref, into):
@@ -123,7 +130,9 @@ def compare(versions_to_load, scene_name, overrides, steps, rounds):
         for _ in range(steps):
             sim.step()
             rows[name].append(sim.sample())
-    (ref_name, ref_sim), (new_name, new_sim) = versions.items()
+    new_name = THIS
+    ref_name = next(name for name in versions if name != THIS)
+    ref_sim, new_sim = versions[ref_name], versions[new_name]
     a = {**state(ref_sim), **sample_columns(rows[ref_name])}
     b = {**state(new_sim), **sample_columns(rows[new_name])}
     same = set(a) == set(b)
@@ -173,13 +182,17 @@ def main(argv=None):
     parser.add_argument("--steps", type=int, default=5, help="outer steps before the comparison")
     parser.add_argument("--rounds", type=int, default=6, help="timed outer steps per version after it")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    parser.add_argument("--this-first", action="store_true",
+                        help="load and build this checkout before REF (the order's bias: module docstring)")
     args = parser.parse_args(argv)
     cases = list(SUITE) if args.all else [(scene, args.overrides) for scene in args.scenes]
     if not cases:
         parser.error("name a scene, or --all")
     with tempfile.TemporaryDirectory() as tmp:
         sys.path.insert(0, str(export(args.ref, Path(tmp))))
-        versions_to_load = ((args.ref, "ref_core", Path(tmp) / "numba"), ("this checkout", "sph_fsi_core", None))
+        versions_to_load = ((args.ref, "ref_core", Path(tmp) / "numba"), (THIS, "sph_fsi_core", None))
+        if args.this_first:
+            versions_to_load = versions_to_load[::-1]
         different = [" ".join([scene] + overrides) for scene, overrides in cases
                      if not compare(versions_to_load, scene, list(overrides), args.steps, args.rounds)]
     if len(cases) > 1:
