@@ -2,6 +2,7 @@
 time, --dist loadfile) end together instead of one waiting on a long file handed out last. And the `slow` marker:
 tests over ~10 s on one thread (coarse validation runs, long physics runs, node tests that run long simulations),
 which `make test-fast` leaves out (`-m "not slow"`) and `make test` runs."""
+import pytest
 
 # the files that take about a minute or more on one thread (pytest --durations), longest first
 LONG_FILES = ("test_artificial_stress.py", "test_implicit_pressure.py", "validation/test_stability_ci.py",
@@ -32,3 +33,15 @@ def pytest_sessionstart(session):
     import os
     import tempfile
     os.environ["SPH_FSI_CACHE"] = tempfile.mkdtemp(prefix="sph_fsi_test_cache_")
+
+
+@pytest.fixture(scope="module")
+def one_numba_thread():
+    """A module's simulations on one Numba thread (the node's NUMBA_NUM_THREADS=1), then the count back for the tests
+    after it: numba's thread count is the calling thread's, and a runner's thread would not share it
+    (`pytestmark = pytest.mark.usefixtures("one_numba_thread")`)."""
+    import numba
+    saved = numba.get_num_threads()
+    numba.set_num_threads(1)
+    yield
+    numba.set_num_threads(saved)

@@ -34,15 +34,7 @@ DEPENDENCIES = {V3: ["std_msgs/Header", "builtin_interfaces/Time", "geometry_msg
                          "geometry_msgs/Vector3"]}
 
 
-@pytest.fixture(scope="module", autouse=True)
-def one_thread():
-    """This module's simulations on one thread, then the count back for the tests after it: numba's thread count
-    is the calling thread's, and a runner's thread would not share it."""
-    import numba
-    saved = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(saved)
+pytestmark = pytest.mark.usefixtures("one_numba_thread")   # their simulations on one thread
 
 
 @pytest.fixture(scope="module")

@@ -152,17 +152,15 @@ def kernel_f(r, h, kernel):
 
 
 def lattice_kernel_sum(smoothing_ratio, kernel=CUBIC_SPLINE):
-    """sum_b dp^3 W(|r_b|, h) over a full cubic lattice of spacing dp (dp = 1 here): 0.99726 at h/dp = 1.3 for the
-    cubic spline.
+    """sum_b dp^3 W(|r_b|, h) over a full cubic lattice of spacing dp (dp = 1 here) for `kernel`: 0.99726 at
+    h/dp = 1.3 for the cubic spline.
 
-    A radial kernel is not a partition of unity on a lattice, so a lattice of mass rho0 dp^3 would sit
-    0.27 % below rho0 (and first compress by that much before any pressure acts)."""
+    A radial kernel is not a partition of unity on a lattice, so with the spline at 1.3 a lattice of mass rho0 dp^3
+    would sit 0.27 % below rho0 (and first compress by that much before any pressure acts)."""
     reach = int(np.ceil(SUPPORT_RADIUS_IN_H * smoothing_ratio)) + 1
     r = np.arange(-reach, reach + 1, dtype=np.float64)
     g = np.stack(np.meshgrid(r, r, r, indexing="ij"), axis=-1).reshape(-1, 3)
     d = np.sqrt((g * g).sum(axis=1))
-    if kernel == CUBIC_SPLINE:
-        return float(sum(cubic_spline_w(x, smoothing_ratio) for x in d))
     return float(sum(kernel_w(x, smoothing_ratio, kernel) for x in d))
 
 

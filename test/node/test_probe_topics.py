@@ -48,15 +48,7 @@ def stamp_ns(stamp):
     return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
-@pytest.fixture(scope="module", autouse=True)
-def one_thread():
-    """This module's simulations on one thread (the node's NUMBA_NUM_THREADS=1), then the count back for the tests
-    after it: numba's thread count is the calling thread's, and a runner's thread would not share it."""
-    import numba
-    saved = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(saved)
+pytestmark = pytest.mark.usefixtures("one_numba_thread")   # their simulations on one thread
 
 
 def build(scene, overrides=()):

@@ -10,58 +10,51 @@ run), the collapsing columns (Martin & Moyce, Lobovsky), water sliding along a f
 through the water passes to the walls, a standing wave's period and loss, and SPHERIC test 2's coarse rung; and a
 coupled case, the small plate under water (its settled deflection against plane-strain FE, the water's load against its
 weight), and the same plate alone under the exact load at both h / dp (the solid shares numerics.smoothing_ratio and
-keeps the spline, so its row under 'wendland_2' is the spline at h / dp 2). Both settings run at the same geometry: the
+keeps the spline: its rows are the spline at h / dp 1.3 and 2). Both settings run at the same geometry: the
 walls 4 layers thick (the reach 2h at h / dp 2) and periodic slabs 9 layers across (twice the cutoff), so the rows
 differ by the kernel and h alone. The water at rest stepped as a coupled run also runs with Wendland's kernel and the
 last iteration taken in part (`fluid.partial_iteration`), which takes the pulses away with the spline.
 """
-from functools import lru_cache
+from dataclasses import replace
 
 from ..rung import rung_error
 from . import default_fluid, hydrostatic_plate, spheric2
-from .setting_studies import rest_pressure_cells, setting_table, spheric2_cells
+from .setting_studies import rest_pressure_cells, setting_rungs, setting_table, spheric2_cells
 
 CASE = "kernel"
-# (label, the water's keys, what it is)
+# (label, the keys, what it is)
 WENDLAND = {"fluid.kernel": "wendland_c2", "numerics.smoothing_ratio": 2.0}
 SETTINGS = (("cubic_1.3", {}, "the cubic spline at h / dp 1.3 (today's default)"),
             ("wendland_2", WENDLAND, "Wendland's C2 at h / dp 2"),
             ("wendland_2_partial", {**WENDLAND, "fluid.partial_iteration": True},
-             "Wendland's C2 at h / dp 2, the last iteration taken in part"))
-# the settings each base runs under (the last: only where the water's pulses are measured)
-PARTIAL_ONLY = ("rest_pressure/H_over_dp_20",)
-# the geometry both settings share, where the scene has the key: walls 2h thick and slabs twice the cutoff at h / dp 2
+             "Wendland's C2 at h / dp 2, the last iteration taken in part"),
+            ("spline_2", {"numerics.smoothing_ratio": 2.0}, "the cubic spline at h / dp 2 (a solid alone: its h)"))
+WATER = ("cubic_1.3", "wendland_2")
+# the rungs the study repeats, in the order run (the cheap first), each with the settings it runs under
+BASES = (("tank/H_over_dp_20", WATER), ("impulse_balance/dp_10mm", WATER), ("martin_moyce/a_over_dp_20", WATER),
+         ("lobovsky/H_over_dp_30", WATER), ("sliding_water/d_over_dp_20", WATER),
+         ("rest_pressure/H_over_dp_20", WATER + ("wendland_2_partial",)),
+         ("standing_wave_loss/d_over_dp_20", WATER), ("spheric2/H_over_dp_20", WATER),
+         ("hydrostatic_plate/small_t_over_dp_4", WATER),
+         ("hydrostatic_plate/small_loaded_t_over_dp_4", ("cubic_1.3", "spline_2")))
+# the geometry every setting shares, where the scene has the key: walls 2h thick and slabs twice the cutoff at h/dp 2
 GEOMETRY = (("geometry.wall_layers", 4), ("geometry.span_layers", 9))
-# the rungs the study repeats, in the order run (the cheap first)
-BASES = ("tank/H_over_dp_20", "impulse_balance/dp_10mm", "martin_moyce/a_over_dp_20", "lobovsky/H_over_dp_30",
-         "sliding_water/d_over_dp_20", "rest_pressure/H_over_dp_20", "standing_wave_loss/d_over_dp_20",
-         "spheric2/H_over_dp_20", "hydrostatic_plate/small_t_over_dp_4",
-         "hydrostatic_plate/small_loaded_t_over_dp_4")
-
-
-@lru_cache(maxsize=None)
-def _scene_keys(scene):
-    from ...scene import load_scene
-    return frozenset(load_scene(scene).values)
 
 
 def _bases():
+    """(base rung with GEOMETRY's keys that its scene has, its settings' labels) for each of BASES."""
+    from ...scene import load_scene
     every = {r.key: r for r in default_fluid.rungs() + spheric2.rungs() + hydrostatic_plate.rungs()}
-    return [every[key] for key in BASES]
+    out = []
+    for key, labels in BASES:
+        base = every[key]
+        has = load_scene(base.scene).values
+        out.append((replace(base, overrides={**base.overrides, **{k: v for k, v in GEOMETRY if k in has}}), labels))
+    return out
 
 
 def rungs():
-    from dataclasses import replace
-    out = []
-    for base in _bases():
-        has = _scene_keys(base.scene)   # a key the scene lacks is left out (the plate alone: h / dp only)
-        geometry = {k: v for k, v in GEOMETRY if k in has}
-        out += [replace(base, case=CASE, label=f"{label}__{base.case}_{base.label}",
-                        overrides={**base.overrides, **geometry, **{k: v for k, v in keys.items() if k in has}},
-                        quick=False, bound=None, counterpart="",
-                        note=f"{base.key}, {what}") for label, keys, what in SETTINGS
-                if not label.endswith("partial") or base.key in PARTIAL_ONLY]
-    return out
+    return setting_rungs(CASE, _bases(), SETTINGS)
 
 
 def _cells(base, s):
@@ -115,5 +108,5 @@ READING = (
 
 def table(out_dir, rungs, summaries):
     lines = setting_table(CASE, "## The water's kernel", __doc__, "kernel", rungs, summaries,
-                          {b.key: b for b in _bases()}, _cells, iterations=".1f", commit=True)
+                          {b.key: b for b, _ in _bases()}, _cells, iterations=".1f", commit=True)
     return lines + ["", READING] if lines else []
