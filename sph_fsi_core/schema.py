@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .errors import SceneError
+from .numerics.kernels import KERNELS
 from .solid.schemes import DEFAULT_SCHEME, SCHEMES, expansion_text
 
 MAX_ART_EXPONENT = 12   # solid.artificial_stress_exponent's upper bound (gray2001.integer_power takes n < 16)
@@ -231,7 +232,7 @@ FLUID = [
        "The water's smoothing kernel, support 2h: 'cubic_spline' (M4, the paper's eq. (1)) or 'wendland_c2' "
        "(Wendland's C2, which keeps a flow ordered at h / dp 1.75-2 where the spline's pairs clump; "
        "numerics/kernels.py, docs/validation/OPEN.md 7). The solid keeps the cubic spline", kind="str",
-       choices=("cubic_spline", "wendland_c2")),
+       choices=tuple(KERNELS)),
     _p("fluid.viscosity", 1.0e-6, "m^2/s", "Kinematic viscosity nu of the laminar term, eq. (9) (Morris form)",
        low=0.0, high=1.0, rebuild=False),
     _p("fluid.density_tolerance", 0.01, "1",
