@@ -48,7 +48,7 @@ def measure(label, scheme="quadratic_plain", steps_target=2.0e7, min_seconds=5.0
     # what the same simulated time takes in steps of the explicit pressure's limit (the bulk sound speed): with the
     # implicit pressure fewer, costlier steps do the same work, and what counts is the time to the answer
     vmax = float(np.sqrt((sim.solid.vel ** 2).sum(axis=1).max()))
-    explicit_dt = sim.spec["solid.cfl"] * sim.h / (sim.solid_phase.solver.settings.sound_speed + vmax)
+    explicit_dt = sim.spec["solid.cfl"] * sim.solid_h / (sim.solid_phase.solver.settings.sound_speed + vmax)
     equivalent = (sim.time - start_time) / explicit_dt * n
     return {"label": label, "scheme": scheme, "particles": n, "pairs_per_particle": round(pairs, 1),
             "steps": sim.solid_phase.steps - start_steps, "seconds": round(elapsed, 3),

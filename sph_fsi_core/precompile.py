@@ -151,12 +151,13 @@ def compile_driver(scene, overrides):
     returns the signature."""
     import numba
     from .scene import load_scene
+    from .schema import solid_smoothing_ratio
     from .scenes import build_scene
     from .solid.phase import SolidPhase
     from .solid.stepper import solid_drivers
     spec = load_scene(scene, list(overrides.items()))
     built, _ = build_scene(spec.builder, spec.values)
-    h = spec["numerics.smoothing_ratio"] * spec["numerics.spacing"]
+    h = solid_smoothing_ratio(spec.values) * spec["numerics.spacing"]
     solver = SolidPhase(built.solid, built, spec.values, h, []).solver
     signature = tuple(numba.typeof(value) for value in solver.leapfrog_arguments(1, False, 0.0))
     solid_drivers(solver.params)[0].compile(signature)

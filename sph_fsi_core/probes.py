@@ -15,7 +15,8 @@ A probe has a name, a kind and its time-series columns:
                   the kernel, sum_b V_b W(x - x_b) < 1/2 over water and wall particles (the walls count as filled,
                   so the line starts full at a floor), less the position's z; 0 when the line is not filled there.
                   The column standing on the floor, as a wave gauge is wetted: a jet or spray above air is not
-                  counted. With a span (span_x, span_y), the mean over a grid of such lines covering the rectangle
+                  counted. With a span (span_x, span_y), the mean over a grid of such lines covering the rectangle.
+                  W is the gauge's own kernel and h where it has them (its kernel, smoothing_ratio), else the water's
     force         `<name>_fx, _fy, _fz` N: the water's force on a part: on a wall, the pressure pair forces of the
                   fluid step's correction (its accumulated pressures at its end positions, fluid.solver
                   FluidSolver.wall_forces); on a solid, the coupling's push on the part's particles; each fluid
@@ -55,6 +56,8 @@ class ProbeSpec:
     indices: np.ndarray = None
     part: str = ""
     span: tuple = (0.0, 0.0)      # water_height: the rectangle (x, y) its lines cover (0, 0: one line)
+    h: float = 0.0                # water_height: its own smoothing length, m (0: the water's)
+    kernel: int = -1              # water_height: its own kernel, numerics/kernels.py's id (-1: the water's)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -209,8 +212,10 @@ class ProbeSet:
             step = sim.spacing / HEIGHT_SAMPLES_PER_SPACING
             for probe in self.heights:
                 x, y, z0 = probe.position
-                height = np.mean([surface_height(lx, ly, z0, water_pos, water_volume, wall_pos, wall_volume, sim.h,
-                                                 sim.fluid_kernel, step)
+                h = probe.h or sim.h
+                kernel = sim.fluid_kernel if probe.kernel < 0 else probe.kernel
+                height = np.mean([surface_height(lx, ly, z0, water_pos, water_volume, wall_pos, wall_volume, h,
+                                                 kernel, step)
                                   for lx, ly in _lines(x, y, probe.span, sim.spacing)])
                 out[probe.name] = ("water_height", {"height": float(height),
                                                     "surface": (float(x), float(y), float(z0 + height))})

@@ -22,6 +22,7 @@ from .jit_cache import start_parallel_runtime
 from .numerics.kernels import lattice_density_scale, water_kernel
 from .probes import ProbeSet, probe_columns
 from .scene import SceneSpec
+from .schema import solid_smoothing_ratio
 from .scenes import build_scene, interface
 from .solid.phase import SolidPhase
 
@@ -55,7 +56,8 @@ class Simulation:
         # unreached_clamp: the mirrored clamp's particles left out (scenes/built.without_unreached_clamp)
         built, self.unreached_clamp = build_scene(self.spec.builder, v)
         self.spacing = v["numerics.spacing"]
-        self.h = v["numerics.smoothing_ratio"] * self.spacing
+        self.h = v["numerics.smoothing_ratio"] * self.spacing      # the water's and the walls'
+        self.solid_h = solid_smoothing_ratio(v) * self.spacing     # the solid's own (solid.smoothing_ratio)
         self.fluid_kernel = water_kernel(v)   # numerics/kernels.py's id of the water's kernel (fluid.kernel)
         self.solid, self.fluid, self.walls = built.solid, built.fluid, built.walls
         self.domain_lo, self.domain_hi, self.period = built.domain_lo, built.domain_hi, built.period
@@ -67,7 +69,7 @@ class Simulation:
         self.notes = list(built.notes)
         self.solid_phase = self.fluid_phase = self.coupling = self.boundary = None
         if self.solid is not None:
-            self.solid_phase = SolidPhase(self.solid, built, v, self.h, self.warnings)
+            self.solid_phase = SolidPhase(self.solid, built, v, self.solid_h, self.warnings)
             self.solid_phase.start()
         if self.fluid is not None:
             self._start_water(built, v)
@@ -85,7 +87,7 @@ class Simulation:
                                      relaxation=v["coupling.relaxation"],
                                      surface_threshold=v["coupling.surface_threshold"],
                                      skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
-                                     box_hi=built.domain_hi)
+                                     box_hi=built.domain_hi, solid_h=self.solid_h)
         settle_time = v["fluid.settle_time"]
         lifted = built.release_walls is not None and built.release_velocity is not None
         self.boundary = Boundary.of(built, v["fluid.density"], gates=settle_time > 0.0 or lifted, solid=self.solid,

@@ -174,7 +174,7 @@ def test_the_clamp_the_body_never_reaches_becomes_the_waters_wall_where_it_was_b
     assert sim.unreached_clamp == 38 * 3 * 6 and whole.solid.count - s.count == sim.unreached_clamp
     # the same moving particles in the same order; of the clamp, those a moving particle comes within 2h + dp of
     assert np.array_equal(s.pos[s.movable], w.pos[w.movable])
-    reached = _brute_force_reached(w.pos, w.movable, whole.period, 2.0 * sim.h + sim.spacing)
+    reached = _brute_force_reached(w.pos, w.movable, whole.period, 2.0 * sim.solid_h + sim.spacing)
     assert reached.sum() == 3 * 3 * 6
     assert np.array_equal(s.pos[~s.movable], w.pos[~w.movable][reached])
     # each kept ghost mirrors the same moving particle as before

@@ -36,11 +36,12 @@ Per fluid step dt (simulation.py drives it):
    stable.
 
 Surface particles and normals (the paper does not say how it finds them): from the particle distribution, g_a = -sum_b
-V_b grad_a W_ab over the solid's own particles (clamp included) vanishes inside the body and points out of it at a
-surface (|g| h = 0.59 at a flat face of a cubic lattice at h = 1.3 dp, 0.06 one layer in, 0 deeper); a particle with
-|g_a| h > coupling.surface_threshold (0.4) is a surface particle, n_a = g_a / |g_a|. The set is found once at build
-(an elastic body keeps its surface particles); the normals are recomputed from the current positions before every
-push, so they turn with the body as it bends (no separate rotation to track).
+V_b grad_a W_ab over the solid's own particles (clamp included; the cubic spline at the solid's own h,
+solid.smoothing_ratio) vanishes inside the body and points out of it at a surface (|g| h = 0.59 at a flat face of a
+cubic lattice at h = 1.3 dp, 0.06 one layer in, 0 deeper); a particle with |g_a| h > coupling.surface_threshold (0.4)
+is a surface particle, n_a = g_a / |g_a|. The set is found once at build (an elastic body keeps its surface
+particles); the normals are recomputed from the current positions before every push, so they turn with the body as
+it bends (no separate rotation to track). Every pair of a water and a solid particle takes the water's kernel and h.
 """
 import math
 
@@ -62,12 +63,13 @@ class Coupling:
 
     def __init__(self, solid, fluid, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
                  substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None,
-                 kernel=CUBIC_SPLINE):
+                 kernel=CUBIC_SPLINE, solid_h=None):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         self.solid, self.fluid = solid, fluid
-        self.h = float(h)
+        self.h = float(h)             # the water's: every pair of a water and a solid particle
         self.kernel = int(kernel)     # the water's (fluid.kernel); the solid's surface is found with the spline
+        self.solid_h = self.h if solid_h is None else float(solid_h)   # the solid's own, for its surface
         self.period = np.asarray(period, dtype=np.float64)
         self.rho0 = float(fluid_rho0)
         self.configure(model, gamma, substeps, relaxation)
@@ -79,14 +81,15 @@ class Coupling:
         self.gradient = np.zeros((solid.count, 3))
         skin = 0.1 * self.h if skin is None else float(skin)
         self._list_args = (SUPPORT_RADIUS_IN_H * self.h, skin, self.period, box_lo, box_hi)
-        self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h, skin, period=self.period,
+        solid_skin = skin if self.solid_h == self.h else skin * self.solid_h / self.h     # the same share of h
+        self.solid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.solid_h, solid_skin, period=self.period,
                                               box_lo=box_lo, box_hi=box_hi)
         self.fluid_neighbours = NeighbourList(SUPPORT_RADIUS_IN_H * self.h, skin, period=self.period,
                                               box_lo=box_lo, box_hi=box_hi)   # solid targets, fluid sources
         self.solid_neighbours.build(solid.pos, solid.pos)
         surface_gradient(solid.pos, self.volume, self.solid_neighbours.start, self.solid_neighbours.index,
-                         self.period, self.h, self.gradient)
-        self.surface = np.sqrt((self.gradient ** 2).sum(axis=1)) * self.h > surface_threshold
+                         self.period, self.solid_h, self.gradient)
+        self.surface = np.sqrt((self.gradient ** 2).sum(axis=1)) * self.solid_h > surface_threshold
         if solid.surface_normal is None or len(solid.surface_normal) != solid.count:
             solid.surface_normal = np.zeros((solid.count, 3))
         surface_normals(self.gradient, self.surface, solid.surface_normal)
@@ -113,7 +116,7 @@ class Coupling:
         s = self.solid
         nb = self.solid_neighbours
         nb.update(s.pos, s.pos)
-        surface_gradient(s.pos, self.volume, nb.start, nb.index, self.period, self.h, self.gradient)
+        surface_gradient(s.pos, self.volume, nb.start, nb.index, self.period, self.solid_h, self.gradient)
         surface_normals(self.gradient, self.surface, s.surface_normal)
 
     def push(self, dt):

@@ -16,6 +16,7 @@ default: a part without one is refused by name.
 """
 import re
 
+from ..numerics.kernels import KERNELS
 from ..schema import Param, SceneError
 
 LISTS = ("parts", "probes", "judge")
@@ -210,7 +211,12 @@ def _probe_area(k):
     return [_p(k + "span_x", 0.0, "m", "With span_y: the mean height over a rectangle span_x by span_y centred on "
                "position, of vertical lines about a spacing apart (a level's mean, whatever its waves; 0: the line "
                "through position)", low=0.0, high=1.0e3),
-            _p(k + "span_y", 0.0, "m", "The rectangle's length along y", low=0.0, high=1.0e3)]
+            _p(k + "span_y", 0.0, "m", "The rectangle's length along y", low=0.0, high=1.0e3),
+            _p(k + "smoothing_ratio", 0.0, "1", "The gauge's own h / dp, 1 to 2: it finds the surface where the "
+               "particles stop filling half its kernel, so a wider h reads a level smoothed over more of the water "
+               "(0: the water's, numerics.smoothing_ratio)", low=0.0, high=2.0),
+            _p(k + "kernel", "water", "", "The gauge's kernel: 'water' (fluid.kernel), or one of numerics/kernels.py's "
+               "by name", kind="str", choices=("water",) + tuple(KERNELS))]
 
 
 def _probe_part(k):

@@ -13,6 +13,7 @@ from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale, water
 from . import geometry
 from ..errors import SceneError
 from ..geometry.parts import list_entries
+from ..schema import solid_smoothing_ratio
 from .builder import Builder  # noqa: F401  (the interface's record)
 from .built import check_layout, without_unreached_clamp
 
@@ -59,6 +60,6 @@ def build_scene(builder, values):
     if not mirrored:     # free bodies only: no clamp to mirror
         return built, 0
     spacing = values["numerics.spacing"]
-    h = values["numerics.smoothing_ratio"] * spacing
+    h = solid_smoothing_ratio(values) * spacing
     return without_unreached_clamp(built, SUPPORT_RADIUS_IN_H * h + spacing, values.get("fluid.density", 0.0),
                                    lattice_density_scale(values["numerics.smoothing_ratio"], water_kernel(values)))

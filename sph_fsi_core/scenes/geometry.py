@@ -42,10 +42,10 @@ from ..geometry.lattice import Lattice, filled, site_keys
 from ..geometry.part_motion import part_motion
 from ..geometry.parts import ABSENT_SECTIONS, list_entries, list_params, parse_order, phases_of
 from ..motion import Commanded, Table
-from ..numerics.kernels import SUPPORT_RADIUS_IN_H, lattice_density_scale, water_kernel
+from ..numerics.kernels import KERNELS, SUPPORT_RADIUS_IN_H, lattice_density_scale, water_kernel
 from ..probes import ProbeSpec, probe_columns
 from ..errors import plain
-from ..schema import Param, SceneError
+from ..schema import Param, SceneError, solid_smoothing_ratio
 from ..state import FluidState, Probe, SolidState, WallState
 from .builder import Builder
 from .built import Built, clamp_mirror_across
@@ -159,6 +159,9 @@ def check(values):
         if kind in ("pressure", "water_height") and "water" not in roles:
             raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no water part; allowed: a water probe on "
                              f"a scene with water")
+        if kind == "water_height" and 0.0 < keys["smoothing_ratio"] < 1.0:
+            raise SceneError(f"probes.{name}.smoothing_ratio = {keys['smoothing_ratio']:g}: out of range; allowed: in "
+                             f"[1, 2], or 0 (the water's, numerics.smoothing_ratio)")
         if kind == "pressure" and keys["part"]:
             target = by_name.get(keys["part"])
             allowed = [p.name for p in parts if p.role == "wall" and p.keys.get("motion", "none") != "none"]
@@ -197,7 +200,8 @@ def _check_period(values):
     """SceneError for a period that is not whole spacings or narrower than the neighbour lists allow (one image is
     enough only across at least twice the cutoff)."""
     dp = values["numerics.spacing"]
-    cutoff = (2.0 + values["numerics.neighbour_skin"]) * values["numerics.smoothing_ratio"] * dp
+    ratio = max(values["numerics.smoothing_ratio"], solid_smoothing_ratio(values))   # the larger list's
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * ratio * dp
     for axis, period in enumerate(values["geometry.period"]):
         if period == 0.0:
             continue
@@ -729,7 +733,9 @@ def _probes(values, built, index):
             out.append(ProbeSpec(name, kind, phase=phase, indices=idx, part=keys["part"]))
         elif kind == "water_height":
             out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64),
-                                 span=(keys["span_x"], keys["span_y"])))
+                                 span=(keys["span_x"], keys["span_y"]),
+                                 h=keys["smoothing_ratio"] * values["numerics.spacing"],
+                                 kernel=-1 if keys["kernel"] == "water" else KERNELS[keys["kernel"]]))
         else:
             position = np.asarray(keys["position"], dtype=np.float64)
             if keys["inset"] > 0.0:

@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from ..numerics.kernels import SUPPORT_RADIUS_IN_H
+from ..schema import solid_smoothing_ratio
 from ..solid.gray2001 import material_constants
 from ..solid.implicit_pressure import deviatoric_wave_speed
 
@@ -322,7 +323,7 @@ def _built_stiffness(values, built, clamp, **kw):
     solid = built.solid
     dp = values["numerics.spacing"]
     mirrored = clamp == "mirrored"
-    k = stiffness(solid.pos, solid.mass / solid.rho, values["numerics.smoothing_ratio"] * dp,
+    k = stiffness(solid.pos, solid.mass / solid.rho, solid_smoothing_ratio(values) * dp,
                   values["solid.young_modulus"], values["solid.poisson_ratio"], cell_moment=dp * dp / 12.0,
                   stores_energy=solid.movable if mirrored else None, period=built.period, **kw)
     return k, (mirrored_clamp_map(built.clamp_mirror, solid.movable) if mirrored else _movable_map(solid.movable))
@@ -371,7 +372,7 @@ def default_scheme_stable_cfl(overrides=(), volumetric_gradient=False):
     k, clamp_map = _built_stiffness(v, built, "mirrored", weights="quadratic_fit", nodal_integration="gradient",
                                     deviatoric=True, volumetric_gradient=volumetric_gradient)
     omega = highest_frequency(k, built.solid.mass, built.solid.movable, clamp_map)
-    return 2.0 / omega * _deviatoric_wave(v) / (v["numerics.smoothing_ratio"] * v["numerics.spacing"])
+    return 2.0 / omega * _deviatoric_wave(v) / (solid_smoothing_ratio(v) * v["numerics.spacing"])
 
 
 def _deviatoric_wave(values):
@@ -449,7 +450,7 @@ def implicit_step_iterations(step_ratios, overrides=(), tolerance=1e-4, seed=0):
                                          deviatoric=True)
     kk = (clamp_map.T @ k @ clamp_map).tocsr()
     m = np.repeat(solid.mass[solid.movable], 3)
-    dt0 = 0.25 * v["numerics.smoothing_ratio"] * v["numerics.spacing"] / _deviatoric_wave(v)
+    dt0 = 0.25 * solid_smoothing_ratio(v) * v["numerics.spacing"] / _deviatoric_wave(v)
     x = np.random.default_rng(seed).normal(size=len(m))
     out = {}
     for ratio in step_ratios:

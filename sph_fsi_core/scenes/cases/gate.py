@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ...schema import SceneError
+from ...schema import SceneError, solid_smoothing_ratio
 from . import probe_named
 from .hydrostatic import check_walls_and_span
 
@@ -38,7 +38,7 @@ def _round_layers(extent, dp, key, at_least=1):
 def layer_counts(values):
     """The layers of each of the layout's extents (the keys rounded to whole spacings; SceneError below the least)."""
     dp = values["numerics.spacing"]
-    h = values["numerics.smoothing_ratio"] * dp
+    h = solid_smoothing_ratio(values) * dp            # the solid's: its kernel must not reach past the clamp
     return dict(
         nt=_round_layers(values["geometry.gate_thickness"], dp, "geometry.gate_thickness", 2),
         nl=_round_layers(values["geometry.gate_length"], dp, "geometry.gate_length", 4),
@@ -56,7 +56,8 @@ def layer_counts(values):
 def span_layers(values):
     """Layers across the slab: geometry.span in whole spacings, at least the periodic minimum 2 (2h + skin) / dp."""
     dp = values["numerics.spacing"]
-    cutoff = (2.0 + values["numerics.neighbour_skin"]) * values["numerics.smoothing_ratio"] * dp
+    ratio = max(values["numerics.smoothing_ratio"], solid_smoothing_ratio(values))
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * ratio * dp
     need = math.ceil(2.0 * cutoff / dp - 1e-9)
     return max(need, int(round(values["geometry.span"] / dp)))
 
