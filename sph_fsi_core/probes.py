@@ -9,14 +9,15 @@ A probe has a name, a kind and its time-series columns:
                   over the water within reach (2h) of the point (Shepard's average; 0 when no water is within
                   reach), each fluid step's averaged over the outer step, weighted by the steps' lengths; a probe on
                   a moving wall (its `part`) rides with it; with an `inset` the point is that far into the water along
-                  the wall's normal (scenes/geometry.py places it)
+                  the wall's normal (scenes/geometry.py places it). W is the probe's own kernel and h where it has
+                  them (its kernel, smoothing_ratio), else the water's
     water_height  `<name>` m: the free surface's height above the probe's position along z: up the vertical line
                   through (x, y) from the position, the first point where the water and the walls stop filling half
                   the kernel, sum_b V_b W(x - x_b) < 1/2 over water and wall particles (the walls count as filled,
                   so the line starts full at a floor), less the position's z; 0 when the line is not filled there.
                   The column standing on the floor, as a wave gauge is wetted: a jet or spray above air is not
-                  counted. With a span (span_x, span_y), the mean over a grid of such lines covering the rectangle.
-                  W is the gauge's own kernel and h where it has them (its kernel, smoothing_ratio), else the water's
+                  counted. With a span (span_x, span_y), the mean over a grid of such lines covering the rectangle;
+                  W as a pressure probe's
     force         `<name>_fx, _fy, _fz` N: the water's force on a part: on a wall, the pressure pair forces of the
                   fluid step's correction (its accumulated pressures at its end positions, fluid.solver
                   FluidSolver.wall_forces); on a solid, the coupling's push on the part's particles; each fluid
@@ -56,8 +57,8 @@ class ProbeSpec:
     indices: np.ndarray = None
     part: str = ""
     span: tuple = (0.0, 0.0)      # water_height: the rectangle (x, y) its lines cover (0, 0: one line)
-    h: float = 0.0                # water_height: its own smoothing length, m (0: the water's)
-    kernel: int = -1              # water_height: its own kernel, numerics/kernels.py's id (-1: the water's)
+    h: float = 0.0                # pressure, water_height: its own smoothing length, m (0: the water's)
+    kernel: int = -1              # pressure, water_height: its own kernel, numerics/kernels.py's id (-1: the water's)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
@@ -142,6 +143,10 @@ class ProbeSet:
             {"displacement": self.groups, "point": self.points, "pressure": self.pressure,
              "water_height": self.heights, "force": self.forces}[kind].append(probe)
         self._pressure_points = np.array([p.position for p in self.pressure], dtype=np.float64).reshape(-1, 3)
+        # the pressure probes by their kernel and h ((0.0, -1): the water's), each group read in one pass
+        kernels = [(p.h, p.kernel) for p in self.pressure]
+        self._pressure_groups = [(np.array([k for k, own in enumerate(kernels) if own == key]), key)
+                                 for key in dict.fromkeys(kernels)]
         self._riding = [(k, p.part) for k, p in enumerate(self.pressure) if p.part]   # on a moving wall
         self._pressure_mean = IntervalMean(len(self.pressure))
         self._force_mean = IntervalMean((len(self.forces), 3))
@@ -155,8 +160,12 @@ class ProbeSet:
         """The pressure and force probes' values after a fluid step of `dt`, into their outer step's means."""
         if self.pressure:
             f = sim.fluid
-            self._pressure_mean.add(shepard_pressure(self._points_now(sim), f.pos, f.mass, f.rho, f.pressure,
-                                                     sim.h, sim.fluid_kernel), dt)
+            points = self._points_now(sim)
+            values = np.empty(len(points))
+            for rows, (h, kernel) in self._pressure_groups:
+                values[rows] = shepard_pressure(points[rows], f.pos, f.mass, f.rho, f.pressure, h or sim.h,
+                                                sim.fluid_kernel if kernel < 0 else kernel)
+            self._pressure_mean.add(values, dt)
         if self.forces:
             self._force_mean.add(self._forces(sim), dt)
 

@@ -1,10 +1,10 @@
-"""A solid's and a water-height gauge's own h (solid.smoothing_ratio; probes.<name>.smoothing_ratio and kernel): the
-water's kernel and h (fluid.kernel, numerics.smoothing_ratio) reach neither when they have their own."""
+"""A solid's and a water probe's own h (solid.smoothing_ratio; probes.<name>.smoothing_ratio and kernel): the water's
+kernel and h (fluid.kernel, numerics.smoothing_ratio) reach neither when they have their own."""
 import numpy as np
 import pytest
 
 from sph_fsi_core.numerics.kernels import CUBIC_SPLINE
-from sph_fsi_core.probes import HEIGHT_SAMPLES_PER_SPACING, surface_height
+from sph_fsi_core.probes import HEIGHT_SAMPLES_PER_SPACING, shepard_pressure, surface_height
 from sph_fsi_core.scene import SceneError, load_scene
 from sph_fsi_core.simulation import Simulation
 from sph_fsi_core.validation.cases.hydrostatic_plate import SMALL_PLATE, SMALL_PLATE_PRESSURE, SMALL_PLATE_SOLID
@@ -71,15 +71,15 @@ def test_a_solid_smoothing_ratio_out_of_range_is_refused_by_name(key, message):
         load_scene("hydrostatic_plate", [key])
 
 
-def _level_scene(tmp_path, gauge):
+def _level_scene(tmp_path, gauge, probes=()):
     import yaml
     tree = {"scene": {"builder": "geometry", "end_time": 0.01}, "numerics": {"spacing": 0.01, "smoothing_ratio": 2.0},
-            "fluid": {"kernel": "wendland_c2"},
+            "fluid": {"kernel": "wendland_c2", "time_step": 0.001}, "output": {"timeseries_interval": 0.001},
             "parts": [{"name": "tank", "role": "wall", "shape": "box", "size": [0.3, 0.1, 0.2],
                        "position": [0.15, 0.05, 0.1], "side": "outside", "open": "+z"},
                       {"name": "water", "role": "water", "shape": "box", "size": [0.3, 0.1, 0.1],
                        "position": [0.15, 0.05, 0.05]}],
-            "probes": [{"name": "level", "kind": "water_height", "position": [0.15, 0.05, 0.0], **gauge}]}
+            "probes": [{"name": "level", "kind": "water_height", "position": [0.15, 0.05, 0.0], **gauge}, *probes]}
     path = tmp_path / "level.yaml"
     path.write_text(yaml.safe_dump(tree, sort_keys=False))
     return str(path)
@@ -102,7 +102,29 @@ def test_a_water_height_gauge_reads_with_its_own_kernel_and_h(tmp_path):
         assert height == pytest.approx(0.1, abs=0.01)
 
 
-def test_a_gauge_smoothing_ratio_below_one_is_refused_by_name(tmp_path):
+def test_a_pressure_probe_reads_with_its_own_kernel_and_h(tmp_path):
+    """Two pressure probes at one point on the tank's end wall, one with the water's kernel and h (Wendland's C2 at
+    2 dp), one with the cubic spline at 1.3 dp: after a fluid step that corrects each reads Shepard's average of
+    that step's pressures with its own (by hand), and the two differ."""
+    at = [0.0, 0.05, 0.03]
+    probes = [{"name": "wall_p", "kind": "pressure", "position": at},
+              {"name": "wall_p_own", "kind": "pressure", "position": at, "kernel": "cubic_spline",
+               "smoothing_ratio": 1.3}]
+    sim = Simulation(load_scene(_level_scene(tmp_path, {}, probes)))
+    sim.step()
+    while sim.fluid_phase.last_iterations == 0:     # to a step that corrects (and so has pressures); one fluid
+        sim.step()                                  # step an outer step: its mean is that step's reading
+    f, point = sim.fluid, np.array([at])
+    read = sim.probe_readings()
+    own = shepard_pressure(point, f.pos, f.mass, f.rho, f.pressure, 0.013, CUBIC_SPLINE)[0]
+    water = shepard_pressure(point, f.pos, f.mass, f.rho, f.pressure, 0.02, sim.fluid_kernel)[0]
+    # the outer step's mean of its one fluid step: dt p / dt, to round-off
+    assert read["wall_p_own"][1]["pressure"] == pytest.approx(own, rel=1e-12)
+    assert read["wall_p"][1]["pressure"] == pytest.approx(water, rel=1e-12)
+    assert own > 0.0 and water > 0.0 and abs(own - water) > 1.0
+
+
+def test_a_probe_smoothing_ratio_below_one_or_an_unknown_kernel_is_refused_by_name(tmp_path):
     with pytest.raises(SceneError, match=r"probes.level.smoothing_ratio = 0.5: out of range; allowed: in \[1, 2\]"):
         load_scene(_level_scene(tmp_path, {"smoothing_ratio": 0.5}))
     with pytest.raises(SceneError, match=r"probes.level.kernel = 'gauss': not a known choice; allowed: one of "

@@ -211,11 +211,14 @@ def _probe_area(k):
     return [_p(k + "span_x", 0.0, "m", "With span_y: the mean height over a rectangle span_x by span_y centred on "
                "position, of vertical lines about a spacing apart (a level's mean, whatever its waves; 0: the line "
                "through position)", low=0.0, high=1.0e3),
-            _p(k + "span_y", 0.0, "m", "The rectangle's length along y", low=0.0, high=1.0e3),
-            _p(k + "smoothing_ratio", 0.0, "1", "The gauge's own h / dp, 1 to 2: it finds the surface where the "
-               "particles stop filling half its kernel, so a wider h reads a level smoothed over more of the water "
-               "(0: the water's, numerics.smoothing_ratio)", low=0.0, high=2.0),
-            _p(k + "kernel", "water", "", "The gauge's kernel: 'water' (fluid.kernel), or one of numerics/kernels.py's "
+            _p(k + "span_y", 0.0, "m", "The rectangle's length along y", low=0.0, high=1.0e3)]
+
+
+def _probe_kernel(k):
+    return [_p(k + "smoothing_ratio", 0.0, "1", "The probe's own h / dp, 1 to 2: it reads the water through a kernel "
+               "(a pressure's Shepard average, a water height's filled half) that reaches 2h, so a wider h reads over "
+               "more of the water (0: the water's, numerics.smoothing_ratio)", low=0.0, high=2.0),
+            _p(k + "kernel", "water", "", "The probe's kernel: 'water' (fluid.kernel), or one of numerics/kernels.py's "
                "by name", kind="str", choices=("water",) + tuple(KERNELS))]
 
 
@@ -305,6 +308,7 @@ PROBE_GROUPS = (("every probe", PROBE_KINDS, _every_probe),
                 ("kind displacement", ("displacement",), _probe_box),
                 ("kind pressure", ("pressure",), _probe_pressure),
                 ("kind water_height", ("water_height",), _probe_area),
+                ("kind pressure or water_height", ("pressure", "water_height"), _probe_kernel),
                 ("kind force", ("force",), _probe_part))
 JUDGE_GROUPS = (("every judge", JUDGE_KINDS, _every_judge),
                 ("kind frequency, mean or swing", ("frequency", "mean", "swing"), _judge_reference),

@@ -159,7 +159,7 @@ def check(values):
         if kind in ("pressure", "water_height") and "water" not in roles:
             raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no water part; allowed: a water probe on "
                              f"a scene with water")
-        if kind == "water_height" and 0.0 < keys["smoothing_ratio"] < 1.0:
+        if kind in ("pressure", "water_height") and 0.0 < keys["smoothing_ratio"] < 1.0:
             raise SceneError(f"probes.{name}.smoothing_ratio = {keys['smoothing_ratio']:g}: out of range; allowed: in "
                              f"[1, 2], or 0 (the water's, numerics.smoothing_ratio)")
         if kind == "pressure" and keys["part"]:
@@ -733,15 +733,19 @@ def _probes(values, built, index):
             out.append(ProbeSpec(name, kind, phase=phase, indices=idx, part=keys["part"]))
         elif kind == "water_height":
             out.append(ProbeSpec(name, kind, position=np.asarray(keys["position"], dtype=np.float64),
-                                 span=(keys["span_x"], keys["span_y"]),
-                                 h=keys["smoothing_ratio"] * values["numerics.spacing"],
-                                 kernel=-1 if keys["kernel"] == "water" else KERNELS[keys["kernel"]]))
+                                 span=(keys["span_x"], keys["span_y"]), **_own_kernel(keys, values)))
         else:
             position = np.asarray(keys["position"], dtype=np.float64)
             if keys["inset"] > 0.0:
                 position = position + keys["inset"] * _into_water(name, keys, values, built)
-            out.append(ProbeSpec(name, kind, position=position, part=keys["part"]))
+            out.append(ProbeSpec(name, kind, position=position, part=keys["part"], **_own_kernel(keys, values)))
     return out
+
+
+def _own_kernel(keys, values):
+    """A water probe's own smoothing length and kernel id (ProbeSpec.h, .kernel; 0 and -1: the water's)."""
+    return dict(h=keys["smoothing_ratio"] * values["numerics.spacing"],
+                kernel=-1 if keys["kernel"] == "water" else KERNELS[keys["kernel"]])
 
 
 def _into_water(name, keys, values, built):

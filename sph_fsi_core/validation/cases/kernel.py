@@ -13,9 +13,9 @@ weight), and the same plate alone under the exact load with the spline at h / dp
 same geometry: the walls 4 layers thick (the reach 2h at h / dp 2) and periodic slabs 9 layers across (twice the
 cutoff), so the rows differ by the kernel and h alone. Beside them: the water at rest with the last iteration taken in
 part (`fluid.partial_iteration`), from the lattice and settled first (`fluid.settle_time` 0.3 s); SPHERIC with its
-judged gauges H2 and H4 reading with the cubic spline at 1.3 dp (`probes.<name>.kernel`, `smoothing_ratio`); the plate
-under Wendland's water with the solid at its own h / dp 1.3 (`solid.smoothing_ratio`), with and without the partial
-iteration.
+judged probes H2, H4, P1 and P3 reading with the cubic spline at 1.3 dp (`probes.<name>.kernel`, `smoothing_ratio`);
+the plate under Wendland's water with the solid at its own h / dp 1.3 (`solid.smoothing_ratio`), with and without the
+partial iteration.
 """
 from dataclasses import replace
 
@@ -27,8 +27,8 @@ CASE = "kernel"
 # (label, the keys, what it is)
 WENDLAND = {"fluid.kernel": "wendland_c2", "numerics.smoothing_ratio": 2.0}
 SETTLE = 0.3   # s, fluid.settle_time: the column's breathing from the lattice start damped before the clock starts
-# the gauges SPHERIC's judges read, with the cubic spline at 1.3 dp whatever the water's kernel
-SPLINE_GAUGES = {f"probes.{name}.{key}": value for name in ("H2", "H4")
+# the probes SPHERIC's judges read, with the cubic spline at 1.3 dp whatever the water's kernel
+SPLINE_PROBES = {f"probes.{name}.{key}": value for name in ("H2", "H4", "P1", "P3")
                  for key, value in (("kernel", "cubic_spline"), ("smoothing_ratio", 1.3))}
 SETTINGS = (("cubic_1.3", {}, "the cubic spline at h / dp 1.3 (today's default)"),
             ("wendland_2", WENDLAND, "Wendland's C2 at h / dp 2"),
@@ -43,8 +43,8 @@ SETTINGS = (("cubic_1.3", {}, "the cubic spline at h / dp 1.3 (today's default)"
             ("wendland_2_partial_solid_1.3",
              {**WENDLAND, "fluid.partial_iteration": True, "solid.smoothing_ratio": 1.3},
              "Wendland's C2 at h / dp 2, the last iteration taken in part, the solid at its own 1.3"),
-            ("wendland_2_gauges_1.3", {**WENDLAND, **SPLINE_GAUGES},
-             "Wendland's C2 at h / dp 2, the water-height gauges with the cubic spline at 1.3 dp"),
+            ("wendland_2_probes_1.3", {**WENDLAND, **SPLINE_PROBES},
+             "Wendland's C2 at h / dp 2, the judged probes with the cubic spline at 1.3 dp"),
             ("spline_2", {"numerics.smoothing_ratio": 2.0}, "the cubic spline at h / dp 2 (a solid alone: its h)"))
 WATER = ("cubic_1.3", "wendland_2")
 # the rungs the study repeats, in the order run (the cheap first), each with the settings it runs under
@@ -53,7 +53,7 @@ BASES = (("tank/H_over_dp_20", WATER), ("impulse_balance/dp_10mm", WATER), ("mar
          ("rest_pressure/H_over_dp_20", WATER + ("wendland_2_partial", "cubic_1.3_partial_settled",
                                                  "wendland_2_partial_settled")),
          ("standing_wave_loss/d_over_dp_20", WATER),
-         ("spheric2/H_over_dp_20", WATER + ("wendland_2_gauges_1.3",)),
+         ("spheric2/H_over_dp_20", WATER + ("wendland_2_probes_1.3",)),
          ("hydrostatic_plate/small_t_over_dp_4", WATER + ("wendland_2_solid_1.3", "wendland_2_partial_solid_1.3")),
          ("hydrostatic_plate/small_loaded_t_over_dp_4", ("cubic_1.3", "spline_2")))
 # the geometry every setting shares, where the scene has the key: walls 2h thick and slabs twice the cutoff at h/dp 2
@@ -104,33 +104,37 @@ READING = (
     "26.4 kPa (31.6; the measured 10.6). It does not help everywhere: at H2, in front of the box, the height's RMS "
     "grows to 0.0532 m (0.0358) with no time shift to take (+0.012 s), most of it the gauge's: a water-height probe "
     "reads the surface with the water's kernel and h unless it has its own, here over 4 dp (0.11 m), and the same flow "
-    "read by gauges with the cubic spline at 1.3 dp (the wendland_2_gauges_1.3 row: P1 and P3 the same bits) gives H2 "
-    "0.0424 m and H4 0.0223 m. P3's peak grows to 21.5 kPa (11.1; the measured 6.5), and the water at rest stepped as "
-    "a coupled run swings by 87 % of rho g H at its wall (58 %: each step's work still jumps by whole iterations, now "
-    "each a larger share of the column's pressure, 0.5 iterations a step against 0.6). With the last iteration taken "
-    "in part the step's pulses are gone under both kernels (1.0 iterations a step); what is left of Wendland's 4.97 % "
-    "(the spline's 0.84 %) is the column's breathing, started by its fall from the lattice at t = 0 (the wall's "
-    "pressure rises and falls at about 40 Hz, its standard deviation over 0.2 s 575, 154, 89, 50 Pa in the first 0.8 s "
-    "and 18-35 Pa to 2 s), which Wendland's water damps more slowly than the spline's: settled first "
-    "(fluid.settle_time 0.3 s) it swings by 0.88 % (0.17 %), within the 2 % goal. The standing wave still loses 49 % a "
-    "period (61 % at this slab, 9 layers across; 50 % at the default suite's 6) and oscillates 5 % slow instead of 9 % "
-    "fast. The floor pressure (0.90 %), the fronts (Martin & Moyce 12.1 %, Lobovsky 0.94 %) stay within their "
-    "tolerances. Under water the small plate settles 10.57 % too far with the solid at the water's h / dp 2 (5.64 % "
-    "with the spline at 1.3), and it swings by 0.2 % of its deflection instead of 9.2 %. That error is the solid's: "
-    "the plate alone under the exact load settles 10.35 % too far with the spline at h / dp 2 (4.95 % at 1.3), and "
-    "with the solid at its own 1.3 (solid.smoothing_ratio) under Wendland's water the coupled plate settles 5.11 % too "
-    "far, its water load -1.52 % of the column's weight (-0.29 % with the spline's water). Its swing over the judged "
-    "second half, 22.2 %, is its start's ringing dying away (its artificial viscosity scales with h): over the last "
-    "quarter it is 0.10 % and the mean -101.84 um; with the last iteration taken in part as well it does not ring "
-    "(+5.22 %, swing 0.2 %). Cost: 3.6x the pairs of a step ((2 / 1.3)^3) and 0.36-1.1x the iterations (the tank at "
-    "rest 18.6 against 40.7, the wave 18.4 against 51.8, SPHERIC 2.0 against 1.8), and a 1.5x longer fluid step where "
-    "the speed sets it (dt = cfl h / |v|, h 1.54x: 205 steps against 306 in Martin & Moyce): 0.7-2.2x the wall time, "
-    "1.85x in SPHERIC (754 s against 408 s on 2 threads, 0.26 against 0.48 M particle-steps/s; the gauges' rerun 843 s "
-    "in a slower hour). So it is a scene key, not the default: the wave's loss is not the kernel's, and the default "
-    "suite has not been rerun on it. The rows read c25dd6b, e3f67ec (the plates before the solid's own h) or 70b0b87 "
-    "(the rows with the gauges' or the solid's own h, or the settled start): each ran the working tree of the commit "
-    "that added what it uses (every other scene the same bits as that commit); the cubic spline's SPHERIC row is the "
-    "default suite's (b051c9d, the same bits since).")
+    "read by probes with the cubic spline at 1.3 dp (the wendland_2_probes_1.3 row) gives H2 0.0424 m and H4 0.0223 m: "
+    "over 1-2 s, as the bore reflected from the far wall passes the box, H2 reads 0.073 m too high on average with the "
+    "water's gauge and 0.037 m with the spline's (the spline's water: 0.016 m), half of it the gauge's and half the "
+    "flow's. P3's peak grows to 21.5 kPa (11.1; the measured 6.5), and it is the flow's, not the probe's reach: read "
+    "with the spline at 1.3 dp P3 peaks at 20.4 kPa and P1 at 34.4 kPa (the water's probes 26.4), their RMS 26.9 and "
+    "21.4 % of the measured range against 18.4 and 14.0 %: a narrower probe averages the step's pressure pulses over "
+    "fewer particles. The water at rest stepped as a coupled run swings by 87 % of rho g H at its wall (58 %: each "
+    "step's work still jumps by whole iterations, now each a larger share of the column's pressure, 0.5 iterations a "
+    "step against 0.6). With the last iteration taken in part the step's pulses are gone under both kernels (1.0 "
+    "iterations a step); what is left of Wendland's 4.97 % (the spline's 0.84 %) is the column's breathing, started by "
+    "its fall from the lattice at t = 0 (the wall's pressure rises and falls at about 40 Hz, its standard deviation "
+    "over 0.2 s 575, 154, 89, 50 Pa in the first 0.8 s and 18-35 Pa to 2 s), which Wendland's water damps more slowly "
+    "than the spline's: settled first (fluid.settle_time 0.3 s) it swings by 0.88 % (0.17 %), within the 2 % goal. The "
+    "standing wave still loses 49 % a period (61 % at this slab, 9 layers across; 50 % at the default suite's 6) and "
+    "oscillates 5 % slow instead of 9 % fast. The floor pressure (0.90 %), the fronts (Martin & Moyce 12.1 %, Lobovsky "
+    "0.94 %) stay within their tolerances. Under water the small plate settles 10.57 % too far with the solid at the "
+    "water's h / dp 2 (5.64 % with the spline at 1.3), and it swings by 0.2 % of its deflection instead of 9.2 %. That "
+    "error is the solid's: the plate alone under the exact load settles 10.35 % too far with the spline at h / dp 2 "
+    "(4.95 % at 1.3), and with the solid at its own 1.3 (solid.smoothing_ratio) under Wendland's water the coupled "
+    "plate settles 5.11 % too far, its water load -1.52 % of the column's weight (-0.29 % with the spline's water). "
+    "Its swing over the judged second half, 22.2 %, is its start's ringing dying away (its artificial viscosity scales "
+    "with h): over the last quarter it is 0.10 % and the mean -101.84 um; with the last iteration taken in part as "
+    "well it does not ring (+5.22 %, swing 0.2 %). Cost: 3.6x the pairs of a step ((2 / 1.3)^3) and 0.36-1.1x the "
+    "iterations (the tank at rest 18.6 against 40.7, the wave 18.4 against 51.8, SPHERIC 2.0 against 1.8), and a 1.5x "
+    "longer fluid step where the speed sets it (dt = cfl h / |v|, h 1.54x: 205 steps against 306 in Martin & Moyce): "
+    "0.7-2.2x the wall time, 1.85x in SPHERIC (754 s against 408 s on 2 threads, 0.26 against 0.48 M particle-steps/s; "
+    "the probes' rerun 823 s in a slower hour). So it is a scene key, not the default: the wave's loss is not the "
+    "kernel's, and the default suite has not been rerun on it. The rows read c25dd6b, e3f67ec (the plates before the "
+    "solid's own h) or 70b0b87 (the rows with the solid's own h or the settled start) or 56ae0b1 (the probes' own "
+    "kernel): each ran the working tree of the commit that added what it uses (every other scene the same bits as that "
+    "commit); the cubic spline's SPHERIC row is the default suite's (b051c9d, the same bits since).")
 
 
 def table(out_dir, rungs, summaries):
