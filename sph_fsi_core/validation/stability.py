@@ -84,6 +84,11 @@ def solid_cases():
                       _beam(**fine_stubby, **{"solid.scheme": "quadratic_plain",
                                               "solid.artificial_stress_epsilon": 0.3}), "stops",
                       why="the growing mode of the artificial stress with the quadratic fit and the plain sum"))
+    for ratio in (1.0, 2.0):
+        cases.append(Case(f"cantilever, the solid's h / dp {ratio:g}", "cantilever",
+                          _beam(**{"geometry.tip_velocity": 1.0, "solid.smoothing_ratio": ratio}), "stable",
+                          why="the ends of solid.smoothing_ratio's range, swinging at 1 m/s: at 1 the kernel reaches "
+                              "the nearest 26 lattice neighbours, at 2 the nearest 250"))
     cases.append(Case("cantilever, forced dt 10x the stable limit", "cantilever",
                       _beam(**{"solid.time_step": 1.1e-4}), "refused", ci=True,
                       why="a step above the stable limit is refused, never silently used"))
@@ -135,6 +140,11 @@ def gate_cases():
     cases.append(Case("gate with no gap", "elastic_gate", {**base, "geometry.gate_clearance": 0.0}, "stable",
                       end_time=0.04, ci=True,
                       why="the gate stands on the floor: no flow under it, the whole column leans on the plate"))
+    cases.append(Case("gate under Wendland's water at h / dp 2, the solid at its own 1.3", "elastic_gate",
+                      {**base, "fluid.kernel": "wendland_c2", "numerics.smoothing_ratio": 2.0,
+                       "geometry.wall_layers": 4, "solid.smoothing_ratio": 1.3}, "stable", end_time=0.04,
+                      why="a water kernel twice as wide as the solid's: the coupling's pairs reach 2h of the water's "
+                          "into a gate two layers thick"))
     if "antoci_gate" in scenes:
         cases.append(Case("Antoci's gate, solid.cfl 0.6 (a runaway solid)", "antoci_gate",
                           {"numerics.spacing": 0.005 / 3, "solid.cfl": 0.6}, "diverged", end_time=0.05,
