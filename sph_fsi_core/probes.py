@@ -162,9 +162,8 @@ class ProbeSet:
             f = sim.fluid
             points = self._points_now(sim)
             values = np.empty(len(points))
-            for rows, (h, kernel) in self._pressure_groups:
-                values[rows] = shepard_pressure(points[rows], f.pos, f.mass, f.rho, f.pressure, h or sim.h,
-                                                sim.fluid_kernel if kernel < 0 else kernel)
+            for rows, own in self._pressure_groups:
+                values[rows] = shepard_pressure(points[rows], f.pos, f.mass, f.rho, f.pressure, *_kernel_of(own, sim))
             self._pressure_mean.add(values, dt)
         if self.forces:
             self._force_mean.add(self._forces(sim), dt)
@@ -221,8 +220,7 @@ class ProbeSet:
             step = sim.spacing / HEIGHT_SAMPLES_PER_SPACING
             for probe in self.heights:
                 x, y, z0 = probe.position
-                h = probe.h or sim.h
-                kernel = sim.fluid_kernel if probe.kernel < 0 else probe.kernel
+                h, kernel = _kernel_of((probe.h, probe.kernel), sim)
                 height = np.mean([surface_height(lx, ly, z0, water_pos, water_volume, wall_pos, wall_volume, h,
                                                  kernel, step)
                                   for lx, ly in _lines(x, y, probe.span, sim.spacing)])
@@ -232,6 +230,12 @@ class ProbeSet:
             for probe, f in zip(self.forces, self._force_mean.take()):
                 out[probe.name] = ("force", {"force": _triple(f)})
         return {name: out[name] for name, _ in self.order}
+
+
+def _kernel_of(own, sim):
+    """(h, kernel id) a probe reads with: its own (ProbeSpec.h, .kernel) where it has them, else the water's."""
+    h, kernel = own
+    return h or sim.h, sim.fluid_kernel if kernel < 0 else kernel
 
 
 def _lines(x, y, span, spacing):

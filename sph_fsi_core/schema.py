@@ -317,18 +317,28 @@ def check_combinations(values):
             raise SceneError("solid.volumetric_gradient = true is the volumetric part of the strain-gradient "
                              f"integration; solid.nodal_integration = {v['solid.nodal_integration']}: allowed: "
                              "gradient (or solid.volumetric_gradient = false)")
-    if "solid.smoothing_ratio" in v and 0.0 < v["solid.smoothing_ratio"] < 1.0:
-        raise SceneError(f"solid.smoothing_ratio = {v['solid.smoothing_ratio']:g}: out of range; allowed: in [1, 2], "
-                         f"or 0 (numerics.smoothing_ratio)")
+    if "solid.smoothing_ratio" in v:
+        check_own_smoothing_ratio("solid.smoothing_ratio", v["solid.smoothing_ratio"])
     if "fluid.min_iterations" in v and v["fluid.min_iterations"] > v["fluid.max_iterations"]:
         raise SceneError(f"fluid.min_iterations = {v['fluid.min_iterations']}: above fluid.max_iterations = "
                          f"{v['fluid.max_iterations']}; allowed: at most fluid.max_iterations")
+
+
+def check_own_smoothing_ratio(key, value):
+    """SceneError for an own h / dp (the solid's, a probe's) between 0, which means numerics.smoothing_ratio, and 1."""
+    if 0.0 < value < 1.0:
+        raise SceneError(f"{key} = {value:g}: out of range; allowed: in [1, 2], or 0 (numerics.smoothing_ratio)")
 
 
 def solid_smoothing_ratio(values):
     """The solid's h / dp: solid.smoothing_ratio, or numerics.smoothing_ratio where that is 0 or the scene has no
     solid."""
     return values.get("solid.smoothing_ratio") or values["numerics.smoothing_ratio"]
+
+
+def widest_smoothing_ratio(values):
+    """The larger of the water's and the solid's h / dp: the one a periodic slab's neighbour lists must fit."""
+    return max(values["numerics.smoothing_ratio"], solid_smoothing_ratio(values))
 
 
 SECTIONS_BY_PHASE = {"common": COMMON, "solid": SOLID, "fluid": FLUID, "coupling": COUPLING}

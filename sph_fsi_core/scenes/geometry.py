@@ -45,7 +45,7 @@ from ..motion import Commanded, Table
 from ..numerics.kernels import KERNELS, SUPPORT_RADIUS_IN_H, lattice_density_scale, water_kernel
 from ..probes import ProbeSpec, probe_columns
 from ..errors import plain
-from ..schema import Param, SceneError, solid_smoothing_ratio
+from ..schema import Param, SceneError, check_own_smoothing_ratio, widest_smoothing_ratio
 from ..state import FluidState, Probe, SolidState, WallState
 from .builder import Builder
 from .built import Built, clamp_mirror_across
@@ -159,9 +159,8 @@ def check(values):
         if kind in ("pressure", "water_height") and "water" not in roles:
             raise SceneError(f"probes.{name}.kind = {kind!r}: the scene has no water part; allowed: a water probe on "
                              f"a scene with water")
-        if kind in ("pressure", "water_height") and 0.0 < keys["smoothing_ratio"] < 1.0:
-            raise SceneError(f"probes.{name}.smoothing_ratio = {keys['smoothing_ratio']:g}: out of range; allowed: in "
-                             f"[1, 2], or 0 (the water's, numerics.smoothing_ratio)")
+        if kind in ("pressure", "water_height"):
+            check_own_smoothing_ratio(f"probes.{name}.smoothing_ratio", keys["smoothing_ratio"])
         if kind == "pressure" and keys["part"]:
             target = by_name.get(keys["part"])
             allowed = [p.name for p in parts if p.role == "wall" and p.keys.get("motion", "none") != "none"]
@@ -200,8 +199,7 @@ def _check_period(values):
     """SceneError for a period that is not whole spacings or narrower than the neighbour lists allow (one image is
     enough only across at least twice the cutoff)."""
     dp = values["numerics.spacing"]
-    ratio = max(values["numerics.smoothing_ratio"], solid_smoothing_ratio(values))   # the larger list's
-    cutoff = (2.0 + values["numerics.neighbour_skin"]) * ratio * dp
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * widest_smoothing_ratio(values) * dp
     for axis, period in enumerate(values["geometry.period"]):
         if period == 0.0:
             continue

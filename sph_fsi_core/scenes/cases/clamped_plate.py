@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ...schema import SceneError, solid_smoothing_ratio
+from ...schema import SceneError, solid_smoothing_ratio, widest_smoothing_ratio
 from . import Case
 
 # the benchmark's plate and water (hydrostatic_plate_fourey2017.csv)
@@ -46,7 +46,7 @@ def _layers(extent, dp, key, at_least):
 def layer_counts(values):
     dp = values["numerics.spacing"]
     h = solid_smoothing_ratio(values) * dp            # the solid's: its kernel must not reach past the clamp
-    cutoff = (2.0 + values["numerics.neighbour_skin"]) * max(h, values["numerics.smoothing_ratio"] * dp)
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * widest_smoothing_ratio(values) * dp
     narrowest = math.ceil(2.0 * cutoff / dp - 1e-9)
     ny = values["geometry.span_layers"] or narrowest
     if ny < narrowest:

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ...schema import SceneError, solid_smoothing_ratio
+from ...schema import SceneError, solid_smoothing_ratio, widest_smoothing_ratio
 from . import probe_named
 from .hydrostatic import check_walls_and_span
 
@@ -56,8 +56,7 @@ def layer_counts(values):
 def span_layers(values):
     """Layers across the slab: geometry.span in whole spacings, at least the periodic minimum 2 (2h + skin) / dp."""
     dp = values["numerics.spacing"]
-    ratio = max(values["numerics.smoothing_ratio"], solid_smoothing_ratio(values))
-    cutoff = (2.0 + values["numerics.neighbour_skin"]) * ratio * dp
+    cutoff = (2.0 + values["numerics.neighbour_skin"]) * widest_smoothing_ratio(values) * dp
     need = math.ceil(2.0 * cutoff / dp - 1e-9)
     return max(need, int(round(values["geometry.span"] / dp)))
 
