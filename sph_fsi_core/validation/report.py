@@ -18,7 +18,8 @@ def measured_against(s, judge=""):
     against what, and the error (signed where the sign says soft or stiff); with `judge` (a rung's Rung.judge),
     that judge's."""
     if judge:
-        return _judge_cells(s["judges"][judge])
+        # a run that diverged was not judged (its row's stable cell says where it stopped)
+        return _judge_cells(s["judges"][judge]) if judge in s.get("judges", {}) else ("-", "-", "-")
     measured = ref = "-"
     judge = next(iter(s["judges"].values())) if s.get("judges") else None    # the first judge: the summary's error
     if s.get("frequency_hz") is not None:

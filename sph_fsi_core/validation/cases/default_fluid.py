@@ -17,6 +17,11 @@ one, has its own module, spheric2.py).
     standing_wave_loss  the same runs: the fraction of its amplitude lost per period (none in linear theory)
     sliding_water water sliding as one at 0.04 m/s along a free-slip floor, d / dp 20 and 40
                   (config/sliding_water.yaml): its mean velocity over the last half of 0.5 s against the start's
+    jet_on_wall   a plane jet on a wall without gravity, b / dp 10, 20 and 40 (config/jet_on_wall.yaml): the wall's
+                  force over the steady window against the jet's momentum flux rho U^2 b per span
+    jet_pressure  the same runs: the pressure on the jet's axis 1.5 h from the wall against free-streamline theory's
+                  (answers/impinging_jet.py)
+    jet_swing     the same runs: that pressure's swing from sample to sample (about one fluid step) over 1/2 rho U^2
 
 Each rung runs the scene's defaults but for the spacing (and the tank's step at its finer rung, as the fluid's step
 must shrink with dp there: docs/method.md).
@@ -31,6 +36,7 @@ BOX_RISE = 0.05                  # m, the level's rise (config/box_pushed_into_t
 WAVE_DEPTH = 0.1                 # m, d (config/standing_wave.yaml)
 WAVE_END = 3.7                   # s: five periods of linear theory's 0.73 s
 SLIDE_DEPTH = 0.1                # m, d (config/sliding_water.yaml)
+JET_WIDTH = 0.05                 # m, b (config/jet_on_wall.yaml)
 # s: the water at rest stepped as in a coupled run (the coupled rungs' fluid steps: Antoci's gate 0.11-0.2 ms, the
 # paper's 0.25 ms, Antoci's gate at rest 1 ms), where gravity's g dt^2 per step is well inside the tolerance
 REST_STEP = 0.0005
@@ -51,6 +57,12 @@ MEASURES = {
                                                                           "1.5e-4 aside)"),
     "sliding_water": ("water sliding along a free-slip floor at 0.04 m/s: its mean velocity, 0.25-0.5 s",
                       "the start's (exact: nothing takes its momentum along the floor)"),
+    "jet_on_wall": ("a plane jet's force on a wall, steady (0.15-0.4 s)",
+                    "its momentum flux rho U^2 b (exact; answers/impinging_jet.py)"),
+    "jet_pressure": ("the same jet's pressure on its axis 1.5 h from the wall, steady",
+                     "free-streamline theory, 1/2 rho U^2 (1 - q^2) (exact; answers/impinging_jet.py)"),
+    "jet_swing": ("that pressure's swing from sample to sample (0.5 ms, about a fluid step), steady",
+                  "1/2 rho U^2 (its scale)"),
 }
 
 
@@ -88,4 +100,10 @@ def rungs():
                  end_time=0.5, resolution=f"d/dp {n}", judge="speed",
                  note=f"d / dp = {n}; the water's mean velocity along the floor against the start's")
             for n in (20, 40)]
+    out += [Rung(case, f"b_over_dp_{n}", "jet_on_wall", {"numerics.spacing": JET_WIDTH / n}, end_time=0.45,
+                 resolution=f"b/dp {n}", judge=judge, note=f"b / dp = {n}; {what}")
+            for case, judge, what in (("jet_on_wall", "force", "the wall's force"),
+                                      ("jet_pressure", "axis_pressure", "the pressure on the axis"),
+                                      ("jet_swing", "axis_swing", "that pressure's swing"))
+            for n in (10, 20, 40)]
     return out

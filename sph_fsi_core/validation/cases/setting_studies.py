@@ -33,7 +33,10 @@ def setting_table(case, heading, doc, column, rungs, summaries, bases, cells, it
         if s is None:
             lines.append(f"| {base.key} | {label} | not run | | | | | |" + (" |" if commit else ""))
             continue
-        measure, beside = cells(base, s)
+        if s["stable"] or s.get("judges"):
+            measure, beside = cells(base, s)
+        else:   # stopped before it could be judged
+            measure, beside = "-", f"{s['diverged']['check']} at {s['diverged']['time']:.4g} s"
         if not s["stable"]:
             measure += " (unstable)"
         machine = s.get("machine", {})
@@ -58,3 +61,12 @@ def spheric2_cells(s):
     return (f"H2 {j['H2']['rms']:.4f} m, H4 {j['H4']['rms']:.4f} m",
             f"P1 peak {p1['peak'] / 1e3:.2f} kPa ({p1['peak_measured'] / 1e3:.2f} measured), onset "
             f"{p1['onset_difference_s']:+.4f} s; P3 peak {p3['peak'] / 1e3:.2f} kPa ({p3['peak_measured'] / 1e3:.2f})")
+
+
+def jet_cells(s):
+    """The plane jet on a wall's cells: the wall's force against the momentum flux, and the axis pressure's error and
+    its swing over 1/2 rho U^2 beside."""
+    j = s["judges"]
+    return (f"force {100 * j['force']['error_signed']:+.2f} %",
+            f"axis pressure {100 * j['axis_pressure']['error_signed']:+.2f} %, its swing "
+            f"{100 * j['axis_swing']['error']:.1f} % of 1/2 rho U^2 (max {j['axis_swing']['max']:.0f} Pa)")
