@@ -19,7 +19,7 @@ OTHER_SPACING = {"cantilever": 0.0005, "clamped_plate": 0.05 / 6, "hydrostatic":
                  "antoci_gate_loaded": 0.005 / 3, "hydrostatic_plate": 0.05 / 4,
                  "cantilever_loaded": 0.0005, "lobovsky_dam_break": 0.02, "spheric2_dam_break": 0.05,
                  "box_pushed_into_tank": 0.02, "standing_wave": 0.0025, "sliding_water": 0.0025,
-                 "box_moved_through_water": 0.005}
+                 "box_moved_through_water": 0.005, "jet_on_wall": 0.005}
 
 
 @pytest.mark.parametrize("scene", sorted(builtin_scenes()))
