@@ -17,7 +17,7 @@ bits).
 """
 from ..rung import rung_error
 from . import default_coupled, default_fluid, hydrostatic_plate
-from .setting_studies import jet_cells, rest_pressure_cells, setting_rungs, setting_table
+from .setting_studies import deflection_cells, jet_cells, rest_pressure_cells, setting_rungs, setting_table
 
 CASE = "fixed_iterations"
 LEAST = 3
@@ -49,13 +49,9 @@ def _cells(base, s):
     if base.case == "jet_on_wall":
         return jet_cells(s)
     if base.case == "antoci_static":
-        swing = 100 * s["tip_deflection_swing_m"] / abs(s["tip_deflection_m"])
-        return (f"{100 * s['error_signed']:+.2f} %",
-                f"swing {swing:.1f} % of it, load {100 * s['water_load_error']:+.1f} %")
+        return deflection_cells(s, "tip_deflection_m", "tip_deflection_swing_m", 1)
     if base.case == "hydrostatic_plate":
-        swing = 100 * s["midspan_deflection_swing_m"] / abs(s["midspan_deflection_m"])
-        return (f"{100 * s['error_signed']:+.2f} %",
-                f"swing {swing:.1f} % of it, load {100 * s['water_load_error']:+.2f} %")
+        return deflection_cells(s, "midspan_deflection_m", "midspan_deflection_swing_m", 2)
     return f"{100 * rung_error(base, s):.2f} %", "-"
 
 

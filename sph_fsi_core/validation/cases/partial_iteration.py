@@ -16,7 +16,8 @@ every scene), copied; the steel gate's are run here.
 """
 from ..rung import Rung, rung_error
 from . import default_coupled, default_fluid, hydrostatic_plate, spheric2
-from .setting_studies import jet_cells, rest_pressure_cells, setting_rungs, setting_table, spheric2_cells
+from .setting_studies import (deflection_cells, jet_cells, rest_pressure_cells, setting_rungs, setting_table,
+                              spheric2_cells)
 
 CASE = "partial_iteration"
 # (label, the fluid's keys, what it is)
@@ -45,20 +46,14 @@ def rungs():
     return setting_rungs(CASE, _bases(), SETTINGS)
 
 
-def _swing(s, value, swing):
-    return f"swing {100 * s[swing] / abs(s[value]):.1f} % of it"
-
-
 def _cells(base, s):
     """The measure that the base rung is judged by, as a cell, and the measures beside it."""
     if base.case == "rest_pressure":
         return rest_pressure_cells(s, 2)
     if base.case == "antoci_static":
-        return (f"{100 * s['error_signed']:+.2f} %",
-                f"{_swing(s, 'tip_deflection_m', 'tip_deflection_swing_m')}, load {100 * s['water_load_error']:+.1f} %")
+        return deflection_cells(s, "tip_deflection_m", "tip_deflection_swing_m", 1)
     if base.case == "hydrostatic_plate":
-        swing = _swing(s, "midspan_deflection_m", "midspan_deflection_swing_m")
-        return f"{100 * s['error_signed']:+.2f} %", f"{swing}, load {100 * s['water_load_error']:+.2f} %"
+        return deflection_cells(s, "midspan_deflection_m", "midspan_deflection_swing_m", 2)
     if base.case == "steel_gate":
         return (f"tip dx peak {1e6 * s['tip_dx_peak_m']:.3f} um at {s['tip_dx_peak_time_s']:.4f} s",
                 f"tip dx at the end {1e6 * s['tip_dx_end_m']:.3f} um")

@@ -63,6 +63,13 @@ def spheric2_cells(s):
             f"{p1['onset_difference_s']:+.4f} s; P3 peak {p3['peak'] / 1e3:.2f} kPa ({p3['peak_measured'] / 1e3:.2f})")
 
 
+def deflection_cells(s, value, swing, load_digits):
+    """A solid at rest under water's cells: its error against FE, and beside it the swing of its deflection `value`
+    (the summary's `swing` key) as a share of it and the water's load, to `load_digits` decimals of a per cent."""
+    return (f"{100 * s['error_signed']:+.2f} %", f"swing {100 * s[swing] / abs(s[value]):.1f} % of it, load "
+                                                  f"{100 * s['water_load_error']:+.{load_digits}f} %")
+
+
 def jet_cells(s):
     """The plane jet on a wall's cells: the wall's force against the momentum flux, and the axis pressure's error and
     its swing over 1/2 rho U^2 beside."""
