@@ -295,6 +295,11 @@ COUPLING = [
        "step-to-step alternation of a light solid under deep water (the added-mass instability of a staggered "
        "coupling); a static answer does not depend on it; it lags the load by about dt (1 - relaxation) / relaxation",
        low=0.0, low_inclusive=False, high=1.0, rebuild=False),
+    _p("coupling.push_ramp", False, "",
+       "The push goes linearly over the solid's sub-steps from the previous fluid step's to this one's (in at most 16 "
+       "pieces) instead of held (false: the paper's): a held push changes in a staircase at the fluid step's "
+       "frequency, which rings a stiff solid whose mode lies near it; the push's mean over a step lags by dt / 2",
+       kind="bool", rebuild=False),
     _p("coupling.surface_threshold", 0.4, "1",
        "A solid particle is a surface particle when |sum_b V_b grad W_ab| h exceeds this (0.59 at a flat "
        "face, 0.06 one layer in, 0 deeper)", low=0.0, low_inclusive=False, high=2.0),

@@ -87,7 +87,7 @@ class Simulation:
                                      relaxation=v["coupling.relaxation"],
                                      surface_threshold=v["coupling.surface_threshold"],
                                      skin=v["numerics.neighbour_skin"] * self.h, box_lo=built.domain_lo,
-                                     box_hi=built.domain_hi, solid_h=self.solid_h)
+                                     box_hi=built.domain_hi, solid_h=self.solid_h, ramp=v["coupling.push_ramp"])
         settle_time = v["fluid.settle_time"]
         lifted = built.release_walls is not None and built.release_velocity is not None
         self.boundary = Boundary.of(built, v["fluid.density"], gates=settle_time > 0.0 or lifted, solid=self.solid,
@@ -133,7 +133,7 @@ class Simulation:
                 phase.configure(v.values)
         if self.coupling is not None:
             self.coupling.configure(v["coupling.model"], v["coupling.gamma"], v["coupling.substeps"],
-                                    v["coupling.relaxation"])
+                                    v["coupling.relaxation"], v["coupling.push_ramp"])
         return deferred
 
     @property
@@ -179,8 +179,9 @@ class Simulation:
             water.refresh_walls(self.boundary.move_parts(t + dt) | self.boundary.follow_solid())
             water.step(dt)
             if coupling is not None:
-                self.solid_phase.advance_coupled(coupling.push(dt), dt, coupling.substeps, self.time,
-                                                 self.watchdog)
+                push = coupling.push(dt)
+                self.solid_phase.advance_coupled(push, dt, coupling.substeps, self.time, self.watchdog,
+                                                 coupling.ramp_start())
             if self.probe_set.averaged():
                 self.probe_set.after_fluid_step(self, dt)
         if coupling is not None:

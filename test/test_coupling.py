@@ -210,3 +210,87 @@ def test_relaxed_push_damps_the_added_mass_alternation(gate_sim, ratio):
     finally:
         c.relaxation, c.previous_acc = saved[0], saved[1]
         c.acc[:] = saved[2]
+
+
+def test_ramp_pieces_take_the_ramp_s_impulse_exactly():
+    """coupling.push_ramp's pieces: whole sub-steps, nearly equal, covering the step; each held at the ramp's value
+    at its middle, so their impulse sum_j len_j a(mid_j) is the ramp's own, n (a0 + a1) / 2 (the midpoint rule is
+    exact on a linear function), and the last piece ends on the new push's side."""
+    from sph_fsi_core.solid.phase import RAMP_PIECES, ramp_pieces
+    for n in (1, 3, 16, 17, 3500, 3517):
+        ends = ramp_pieces(n, RAMP_PIECES)
+        lengths = np.diff(ends)
+        assert ends[0] == 0 and ends[-1] == n and len(lengths) == min(n, RAMP_PIECES)
+        assert lengths.min() >= 1 and lengths.max() - lengths.min() <= 1
+        a0, a1 = -3.0, 5.0
+        mids = 0.5 * (ends[:-1] + ends[1:]) / n
+        assert float(np.sum(lengths * (a0 + mids * (a1 - a0)))) == pytest.approx(n * 0.5 * (a0 + a1), rel=1e-13)
+
+
+def test_ramped_push_held_constant_is_the_held_push_to_the_bit():
+    """The solid's sub-steps taken in the ramp's pieces under a push that does not change give the held push's
+    steps to the bit (the pieces only cut the same leapfrog into runs), and the sub-steps are counted once."""
+    runs = []
+    for ramp in (False, True):
+        sim = Simulation(load_scene("elastic_gate", COARSE))
+        push = np.zeros((sim.solid.count, 3))
+        push[sim.solid.movable, 0] = 0.3
+        n, _ = sim.coupling.substeps(5e-4, sim.solid_phase.solver.stable_dt())
+        for _ in range(3):
+            sim.solid_phase.advance_coupled(push, 5e-4, sim.coupling.substeps, 0.0, sim.watchdog,
+                                            push.copy() if ramp else None)
+        assert sim.solid_phase.steps == 3 * n and sim.solid_phase.last_substeps == n
+        runs.append((sim.solid.pos.copy(), sim.solid.vel.copy()))
+    assert n > 16 and np.array_equal(runs[0][0], runs[1][0]) and np.array_equal(runs[0][1], runs[1][1])
+
+
+def test_push_ramp_starts_from_the_last_step_s_push_and_reports_what_the_solid_felt():
+    """With coupling.push_ramp the first fluid step's push is held (nothing before it to ramp from), each later one
+    ramps from the push before it, and the outer step's mean push is the mean of what the solid felt over each step,
+    (a_before + a_now) / 2: the impulse balance's bookkeeping."""
+    sim = Simulation(load_scene("elastic_gate", COARSE + [("coupling.push_ramp", True),
+                                                          ("output.timeseries_interval", 0.002)]))
+    c = sim.coupling
+    pushes, starts, dts = [], [], []
+    original = sim.solid_phase.advance_coupled
+
+    def spy(push, dt, substeps, time, watchdog, push_start=None):
+        pushes.append(push.copy())
+        starts.append(None if push_start is None else push_start.copy())
+        dts.append(dt)
+        return original(push, dt, substeps, time, watchdog, push_start)
+    sim.solid_phase.advance_coupled = spy
+    for _ in range(4):
+        sim.step()
+    assert starts[0] is None and len(pushes) >= 4
+    for before, start in zip(pushes[:-1], starts[1:]):
+        assert np.array_equal(before, start)
+    felt = [pushes[0]] + [0.5 * (a + b) for a, b in zip(pushes[1:], pushes[:-1])]
+    steps_last = [len(dts) - 1]
+    while sum(dts[k] for k in steps_last) < sim.outer_step_duration() * (1 - 1e-9):
+        steps_last.append(steps_last[-1] - 1)
+    expected = sum(dts[k] * (sim.solid.mass @ felt[k]) for k in steps_last) / sum(dts[k] for k in steps_last)
+    assert np.allclose(c.mean_push, expected, rtol=1e-12, atol=1e-15)
+    assert np.abs(c.mean_push).max() > 0.0
+
+
+def test_steel_gate_cells_read_the_swing_and_the_beam_s_static_deflection(tmp_path):
+    """The push_ramp and fixed_iterations studies' steel gate cells: the free end's standard deviation and mean over
+    0.02-0.04 s from the run's time series, and beam theory's F L^3 / 8 E I (I = w T^3 / 12) for the mean push, on a
+    series whose numbers are known."""
+    from sph_fsi_core.validation.cases import push_ramp
+    from sph_fsi_core.validation.cases.setting_studies import steel_gate_cells, with_steel_ringing
+    rung = next(r for r in push_ramp.rungs() if r.label == "min_3__steel_gate_E_2e11")
+    run = tmp_path / "runs" / rung.case / rung.label
+    run.mkdir(parents=True)
+    times = np.arange(41) * 0.001
+    dx = np.where(np.arange(41) % 2 == 0, -1.0e-7, -3.0e-7)      # mean -0.2 um, standard deviation 0.1 um inside
+    rows = ["time,tip_dx,coupling_force_x"] + [f"{t:.6g},{d:.6g},-0.5" for t, d in zip(times, dx)]
+    (run / "timeseries.csv").write_text("\n".join(rows) + "\n")
+    settings = {"geometry.slab": 0.012, "geometry.thick": 0.004, "geometry.free": 0.04, "solid.young_modulus": 2e11}
+    summaries = with_steel_ringing(tmp_path, [rung], {rung.key: {"settings": settings}})
+    ringing = summaries[rung.key]["ringing"]
+    assert ringing["mean_m"] == pytest.approx(-2.0e-7, rel=0.06) and ringing["std_m"] == pytest.approx(1.0e-7, rel=0.01)
+    measure, beside = steel_gate_cells(summaries[rung.key])
+    static = 0.5 * 0.04 ** 3 / (8 * 2e11 * 0.012 * 0.004 ** 3 / 12)      # 0.3125 um
+    assert measure.startswith("swing 0.100 um") and f"{1e6 * static:.3f} um" in beside and "push -0.500 N" in beside

@@ -63,7 +63,7 @@ class Coupling:
 
     def __init__(self, solid, fluid, h, period, fluid_rho0, lattice_scale, model="seed", gamma=10.0,
                  substeps=0, relaxation=1.0, surface_threshold=0.4, skin=None, box_lo=None, box_hi=None,
-                 kernel=CUBIC_SPLINE, solid_h=None):
+                 kernel=CUBIC_SPLINE, solid_h=None, ramp=False):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         self.solid, self.fluid = solid, fluid
@@ -72,7 +72,10 @@ class Coupling:
         self.solid_h = self.h if solid_h is None else float(solid_h)   # the solid's own, for its surface
         self.period = np.asarray(period, dtype=np.float64)
         self.rho0 = float(fluid_rho0)
-        self.configure(model, gamma, substeps, relaxation)
+        self.push_start = None        # with coupling.push_ramp: the push the ramp starts from (the last step's)
+        self.pushes = 0               # fluid steps pushed so far: the first has no push before it to ramp from
+        self._ramped = False          # whether the last push ramps (push_start then holds where from)
+        self.configure(model, gamma, substeps, relaxation, ramp)
         self.volume = solid.mass / solid.rho                       # initial volumes m / rho0_s
         self.wall_mass = solid_wall_mass(solid.mass, solid.rho, self.rho0, lattice_scale)
         self.solid_p = np.zeros(solid.count)
@@ -98,7 +101,7 @@ class Coupling:
         # each fluid step's push (N) held over its sub-steps, summed over an outer step with the steps' lengths
         self._push_sum, self._push_time, self.mean_push = np.zeros(3), 0.0, np.zeros(3)
 
-    def configure(self, model, gamma, substeps, relaxation=1.0):
+    def configure(self, model, gamma, substeps, relaxation=1.0, ramp=False):
         if model not in MODELS:
             raise ValueError(f"coupling.model = {model!r}; allowed: one of {', '.join(MODELS)}")
         if not 0.0 < relaxation <= 1.0:
@@ -107,6 +110,7 @@ class Coupling:
         if getattr(self, "relaxation", None) != float(relaxation):
             self.previous_acc = None      # a push held under another setting is not this one's to blend with
         self.relaxation = float(relaxation)
+        self.ramp = bool(ramp)
 
     @property
     def surface_count(self):
@@ -120,8 +124,14 @@ class Coupling:
         surface_normals(self.gradient, self.surface, s.surface_normal)
 
     def push(self, dt):
-        """The solid's external acceleration from the fluid step just taken (held over the sub-steps)."""
+        """The solid's external acceleration from the fluid step just taken (held over the sub-steps, or with
+        coupling.push_ramp ramped to from `push_start`, the last step's, which this sets; None at the first step)."""
         s, f = self.solid, self.fluid
+        self._ramped = self.ramp and self.pushes > 0
+        if self._ramped:
+            if self.push_start is None:
+                self.push_start = np.zeros_like(self.acc)
+            self.push_start[:] = self.acc
         if self.model == "seed":
             pos = s.pos
             nb = self.fluid_neighbours
@@ -134,9 +144,15 @@ class Coupling:
             self.acc[:] = self.force / s.mass[:, None]
             self.acc[~s.movable] = 0.0
         self._relax_push()
-        self._push_sum += dt * (s.mass @ self.acc)
+        felt = self.acc if self.ramp_start() is None else 0.5 * (self.acc + self.push_start)   # over the step
+        self._push_sum += dt * (s.mass @ felt)
         self._push_time += dt
+        self.pushes += 1
         return self.acc
+
+    def ramp_start(self):
+        """The push the solid's sub-steps ramp from to the one just computed (coupling.push_ramp), or None: held."""
+        return self.push_start if self._ramped else None
 
     def end_interval(self):
         """The push on the solid averaged over the outer step just taken (`mean_push`, N), each fluid step's held

@@ -14,6 +14,17 @@ from ..diagnostics import kinetic_energy
 from .solver import NO_EXTERNAL, NO_MIRROR, SolidSolver, artificial_stress_warning, cfl_warning
 
 
+# the most pieces a ramped push takes over one fluid step (coupling.push_ramp): at 16 the staircase that is left
+# steps at 16 times the fluid step's frequency, far above the modes a coupled run resolves
+RAMP_PIECES = 16
+
+
+def ramp_pieces(n, pieces):
+    """The sub-step indices that cut `n` sub-steps into min(n, pieces) runs of nearly equal length, first 0, last
+    n."""
+    return np.rint(np.linspace(0.0, n, min(n, pieces) + 1)).astype(np.int64)
+
+
 def clamp_mirror(built, clamp):
     """The ghost clamp's mirror map for solid.clamp = mirrored; empty for the fixed clamp, and for free bodies only
     (a clamp that cannot be mirrored is refused by scenes.build_scene)."""
@@ -109,14 +120,27 @@ class SolidPhase:
         n = max(1, math.ceil(duration / dt_max * (1.0 - 1e-12)))
         self._advance(n, duration / n, self.prescribed_acceleration(time + 0.5 * duration), time)
 
-    def advance_coupled(self, push, fluid_dt, substeps, time, watchdog):
+    def advance_coupled(self, push, fluid_dt, substeps, time, watchdog, push_start=None):
         """Satake et al. sec. 2.3: the sub-steps of one fluid step `fluid_dt`, the water's push `push` held over
-        them; `substeps(fluid_dt, stable_dt)` gives their number and a warning or None (coupling.solver)."""
+        them; `substeps(fluid_dt, stable_dt)` gives their number and a warning or None (coupling.solver).
+
+        With `push_start` (coupling.push_ramp: the previous fluid step's push) the push goes linearly from it to
+        `push` over the step instead, in at most RAMP_PIECES pieces of whole sub-steps, each held at the ramp's
+        value at its middle (so the impulse is the ramp's exactly): a held push changes in a staircase at the
+        fluid step's frequency, which rings a stiff solid whose mode lies there (docs/method.md, coupling)."""
         watchdog.solid_speed_before_substeps()
         n, warning = substeps(fluid_dt, self.solver.stable_dt())
         if warning:
             self.warnings.append(f"t = {time:.6g} s: {warning}")
-        self._advance(n, fluid_dt / n, push, time)
+        dt = fluid_dt / n
+        if push_start is None:
+            self._advance(n, dt, push, time)
+            return
+        ends = ramp_pieces(n, RAMP_PIECES)
+        for first, last in zip(ends[:-1], ends[1:]):
+            share = 0.5 * (first + last) / n
+            self._advance(int(last - first), dt, push_start + share * (push - push_start), time)
+        self.last_substeps = n
 
     def _advance(self, n, dt, ext_acc, time):
         """`n` solid steps of `dt` (SolidSolver.advance), counted and timed."""

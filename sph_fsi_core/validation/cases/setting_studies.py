@@ -3,7 +3,9 @@ suite's rungs repeated under each setting, and their table, a row per run with t
 by and the cost."""
 from dataclasses import replace
 
-from ..report_tools import fmt
+import numpy as np
+
+from ..report_tools import fmt, series_rows
 
 
 def setting_rungs(case, bases, settings):
@@ -77,3 +79,46 @@ def jet_cells(s):
     return (f"force {100 * j['force']['error_signed']:+.2f} %",
             f"axis pressure {100 * j['axis_pressure']['error_signed']:+.2f} %, its swing "
             f"{100 * j['axis_swing']['error']:.1f} % of 1/2 rho U^2 (max {j['axis_swing']['max']:.0f} Pa)")
+
+
+# the steel gate's window for its ringing: after the water's front has reached the gate's free end (about 10 ms)
+STEEL_WINDOW_S = (0.02, 0.04)
+
+
+def steel_ringing(out_dir, rung):
+    """The steel gate's free end over STEEL_WINDOW_S from the run's time series: the mean and standard deviation of
+    its x displacement, the mean push on the gate, and the static deflection that push gives spread evenly over the
+    gate (beam theory, F L^3 / 8 E I, I = w T^3 / 12 across the slab's width w); None if it was not run."""
+    rows = series_rows(out_dir, rung)
+    if not rows:
+        return None
+    t = np.array([float(r["time"]) for r in rows])
+    inside = (t > STEEL_WINDOW_S[0] - 1e-9) & (t < STEEL_WINDOW_S[1] + 1e-9)
+    dx = np.array([float(r["tip_dx"]) for r in rows])[inside]
+    push = np.array([float(r["coupling_force_x"]) for r in rows])[inside].mean()
+    return {"mean_m": float(dx.mean()), "std_m": float(dx.std()), "push_n": float(push)}
+
+
+def with_steel_ringing(out_dir, rungs, summaries):
+    """`summaries` with each steel gate run's `ringing` (steel_ringing) added, for steel_gate_cells."""
+    out = dict(summaries)
+    for r in rungs:
+        if "steel_gate" in r.label and r.key in out:
+            out[r.key] = {**out[r.key], "ringing": steel_ringing(out_dir, r)}
+    return out
+
+
+def steel_gate_cells(s):
+    """The steel gate's cells: its free end's swing over STEEL_WINDOW_S (standard deviation) as a share of its mean
+    there, and beside it the mean, the static deflection of the mean push spread evenly over the gate (beam theory,
+    F L^3 / 8 E I, I = w T^3 / 12 across the slab's width w; the sizes from the run's settings) and the push
+    (with_steel_ringing's `ringing`)."""
+    ringing, settings = s.get("ringing"), s["settings"]
+    if ringing is None:
+        return "-", "-"
+    width, thick, free = settings["geometry.slab"], settings["geometry.thick"], settings["geometry.free"]
+    stiffness = 8.0 * settings["solid.young_modulus"] * width * thick ** 3 / 12.0 / free ** 3
+    static = abs(ringing["push_n"]) / stiffness
+    return (f"swing {1e6 * ringing['std_m']:.3f} um, {100 * ringing['std_m'] / abs(ringing['mean_m']):.0f} % of "
+            f"its mean", f"mean {1e6 * ringing['mean_m']:+.3f} um (the mean push {ringing['push_n']:+.3f} N spread "
+            f"evenly: {1e6 * static:.3f} um), {STEEL_WINDOW_S[0]:g}-{STEEL_WINDOW_S[1]:g} s")
