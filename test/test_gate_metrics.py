@@ -72,6 +72,28 @@ def test_the_water_levels_of_antocis_gate_read_its_column_at_rest():
     assert readings["level_gate"][1]["surface"][0] == pytest.approx(-(0.005 + 0.01))
 
 
+def test_antocis_gate_in_the_experiments_tank_is_closed_by_side_walls_and_is_the_slab_across_y():
+    """config/antoci_gate.yaml with geometry.periodic_y: false and span: 0.1 (the antoci_tank study): no period, side
+    walls of wall_layers layers just outside the water's and the gate's 0.1 m across, and in every y layer the slab's
+    own arrangement in x and z (the same gate, water and floor, only repeated across)."""
+    from sph_fsi_core.simulation import Simulation
+    dp = 0.0025
+    common = ["numerics.spacing=0.0025", "solid.scheme=gray2001"]
+    slab = Simulation(load_scene("antoci_gate", common))
+    tank = Simulation(load_scene("antoci_gate", common + ["geometry.periodic_y=false", "geometry.span=0.1"]))
+    layers = round(0.1 / dp)
+    assert slab.period[1] > 0.0 and not np.any(tank.period)
+    for phase in ("fluid", "solid"):
+        y = getattr(tank, phase).pos[:, 1]
+        assert y.min() == pytest.approx(dp / 2) and y.max() == pytest.approx(0.1 - dp / 2)
+        assert getattr(tank, phase).count == getattr(slab, phase).count * layers // slab.spec["geometry.ny"]
+    wy = tank.walls.pos[:, 1]
+    assert wy.min() == pytest.approx(-2.5 * dp) and wy.max() == pytest.approx(0.1 + 2.5 * dp)
+    inside = tank.walls.pos[(wy > 0) & (wy < dp)]          # the first layer across: the slab's floor and end walls
+    first = slab.walls.pos[slab.walls.pos[:, 1] < dp]
+    assert {tuple(np.round(p[[0, 2]], 9)) for p in first} <= {tuple(np.round(p[[0, 2]], 9)) for p in inside}
+
+
 def test_the_stiffness_study_scales_the_peaks_time_as_a_gate_alone_would(tmp_path):
     """The study's table (validation/cases/antoci_stiffness.py) on stored runs of known curves: each peak and its
     time read back, and the published material's time moved by sqrt(12 MPa / E) for the softer gates."""

@@ -6,6 +6,10 @@ axis pressure and its swing over 1/2 rho U^2) and the swing left in 5 ms means.
 
     python docs/validation/studies/water_lattice/jet_shifting.py A [KEY=VALUE ...]
     (e.g. 0.5; A = 0 runs the scene as it is; b/dp 20: about 4 minutes on 2 threads with A > 0)
+
+Under iisph_step.py (A = 0) it runs the jet with a pressure field solved each step instead of the correction
+(docs/validation/OPEN.md 1.5), from the repository's root: PYTHONPATH=docs/validation/studies/water_lattice python
+docs/validation/studies/water_lattice/iisph_step.py 0.15 0.5 1 jet_shifting.py 0 fluid.density_tolerance=0.001
 """
 import sys
 import tempfile
