@@ -11,10 +11,10 @@ Two kinds: the default suite (CASES: today's default scheme on every case, `sph-
 docs/validation/REPORT.md) and the studies (STUDIES: other schemes and options, run only when named, each its own
 page under docs/validation/studies/).
 """
-from . import (antoci_stiffness, cantilever, cantilever_shapes, clamp_effect, default_coupled, default_fluid,
-               default_solid, fixed_iterations, fluid, gate, gate_default, gate_span, gate_static, hydrostatic_plate,
-               kernel, large_deflection, partial_iteration, pressure_tolerance, push_ramp, solid_pressure, solid_static,
-               spheric2, volumetric_gradient, water_lattice)
+from . import (antoci_stiffness, antoci_tank, cantilever, cantilever_shapes, clamp_effect, default_coupled,
+               default_fluid, default_solid, fixed_iterations, fluid, gate, gate_default, gate_span, gate_static,
+               hydrostatic_plate, kernel, large_deflection, partial_iteration, pressure_tolerance, push_ramp,
+               solid_pressure, solid_static, spheric2, volumetric_gradient, water_lattice)
 
 # The default suite, in the order of the report's headline table: the solid alone, the water alone, then both.
 CASES = (default_solid, default_fluid, spheric2, default_coupled)
@@ -23,14 +23,14 @@ CASES = (default_solid, default_fluid, spheric2, default_coupled)
 # (`sph-fsi validate gate_span --out docs/validation/studies/gate_span`).
 STUDIES = (cantilever, cantilever_shapes, large_deflection, solid_static, clamp_effect, hydrostatic_plate, fluid, gate,
            gate_default, gate_static, solid_pressure, volumetric_gradient, gate_span, antoci_stiffness,
-           pressure_tolerance, partial_iteration, water_lattice, kernel, fixed_iterations, push_ramp)
+           pressure_tolerance, partial_iteration, water_lattice, kernel, fixed_iterations, push_ramp, antoci_tank)
 
 # The order of the pages' sections and plots (each module's table and plot pick their own rungs); among the studies,
 # gate_static's table comes before the fluid's (the committed pages keep their layout).
 SECTIONS = (default_solid, default_fluid, spheric2, default_coupled, cantilever, cantilever_shapes, large_deflection,
             solid_static, clamp_effect, hydrostatic_plate, gate_static, fluid, gate, gate_default, solid_pressure,
             volumetric_gradient, gate_span, antoci_stiffness, pressure_tolerance, partial_iteration, water_lattice,
-            kernel, fixed_iterations, push_ramp)
+            kernel, fixed_iterations, push_ramp, antoci_tank)
 
 # Names that select several cases at once.
 CASE_GROUPS = {"gate": ("antoci_gate", "elastic_gate"), "standing_wave": ("standing_wave", "standing_wave_loss")}
