@@ -33,7 +33,8 @@ Per fluid step dt (simulation.py drives it):
      Pair by pair equal and opposite: momentum is conserved (test_coupling.py sums the pairs).
 4. The solid takes n sub-steps of dt / n with the push as an external acceleration, n = ceil(dt / dt_solid)
    from the two stable steps (the paper's 200 is what its material gives), or coupling.substeps when set and
-   stable.
+   stable; with coupling.push_ramp the push goes linearly from the last step's to this one's over them
+   (solid/phase.py), for a stiff solid whose mode a held push's staircase would ring.
 
 Surface particles and normals (the paper does not say how it finds them): from the particle distribution, g_a = -sum_b
 V_b grad_a W_ab over the solid's own particles (clamp included; the cubic spline at the solid's own h,
@@ -124,8 +125,9 @@ class Coupling:
         surface_normals(self.gradient, self.surface, s.surface_normal)
 
     def push(self, dt):
-        """The solid's external acceleration from the fluid step just taken (held over the sub-steps, or with
-        coupling.push_ramp ramped to from `push_start`, the last step's, which this sets; None at the first step)."""
+        """The solid's external acceleration from the fluid step just taken, held over the sub-steps; with
+        coupling.push_ramp ramped to from the last step's push, which this keeps in `push_start` (ramp_start(): None
+        at the first step, which is held)."""
         s, f = self.solid, self.fluid
         self._ramped = self.ramp and self.pushes > 0
         if self._ramped:
