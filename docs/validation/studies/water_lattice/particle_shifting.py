@@ -4,6 +4,9 @@ Rogers 2012, J. Comput. Phys. 231, Fickian shifting with their anti-clumping ter
 
     dr_a = -A h |v_a| dt grad C_a,    grad C_a = sum_b V_b (1 + R (W_ab / W(dp))^n) grad_a W_ab   (R 0.2, n 4)
 
+(with `global_speed` the water's largest |v| in place of |v_a|, as Xu, Stansby & Laurence 2009 scale it, so a
+particle near a stagnation point, slow itself, is shifted as much as the flow's fastest)
+
 over water and wall neighbours (V = m / rho0), so the water spreads towards an even arrangement. At a free surface C
 falls to about 0.5 and its gradient would throw the water out: a particle is not shifted within the surface's band,
 where C < 0.97, h |grad C| > 0.2, or a neighbour has C < 0.9 (Lind et al. shift only along the surface there; in
@@ -22,7 +25,7 @@ SURFACE_C = 0.9            # a particle with less is on the free surface
 BAND_C, BAND_GRADIENT = 0.97, 0.2
 
 
-def shift(solver, dt, coefficient, dp, free_surface):
+def shift(solver, dt, coefficient, dp, free_surface, global_speed=False):
     """Move the water of a FluidSolver by one step's shifting (module docstring); returns the largest move (m)."""
     fl, h, period = solver.fluid, solver.h, solver.period
     n = len(fl.pos)
@@ -39,6 +42,8 @@ def shift(solver, dt, coefficient, dp, free_surface):
     np.add.at(grad_c, j, -(volume[i] * anti_clump)[:, None] * grad)
     conc, grad_c = conc[:n], grad_c[:n]
     speed = np.sqrt((fl.vel ** 2).sum(axis=1))
+    if global_speed and n:
+        speed[:] = speed.max()
     move = -(coefficient * h * speed * dt)[:, None] * grad_c
     if free_surface:
         surface = np.concatenate([conc < SURFACE_C, np.zeros(len(points) - n, dtype=bool)])
@@ -53,7 +58,7 @@ def shift(solver, dt, coefficient, dp, free_surface):
     return float(np.abs(move).max()) if n else 0.0
 
 
-def install(coefficient, dp, free_surface):
+def install(coefficient, dp, free_surface, global_speed=False):
     """Shift after every FluidSolver.step from now on (A = `coefficient`; 0: nothing is installed)."""
     if coefficient <= 0.0:
         return
@@ -61,7 +66,7 @@ def install(coefficient, dp, free_surface):
 
     def shifted_step(self, dt):
         report = step(self, dt)
-        shift(self, dt, coefficient, dp, free_surface)
+        shift(self, dt, coefficient, dp, free_surface, global_speed)
         return report
 
     FluidSolver.step = shifted_step
