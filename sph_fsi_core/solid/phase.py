@@ -137,9 +137,9 @@ class SolidPhase:
             self._advance(n, dt, push, time)
             return
         ends = ramp_pieces(n, RAMP_PIECES)
+        change = push - push_start
         for first, last in zip(ends[:-1], ends[1:]):
-            share = 0.5 * (first + last) / n
-            self._advance(int(last - first), dt, push_start + share * (push - push_start), time)
+            self._advance(int(last - first), dt, push_start + (0.5 * (first + last) / n) * change, time)
         self.last_substeps = n
 
     def _advance(self, n, dt, ext_acc, time):

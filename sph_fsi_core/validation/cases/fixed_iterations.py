@@ -16,11 +16,9 @@ Antoci's gate at rest under water and released, the steel gate of `sph-fsi stabi
 benchmark plate under 2 m of water and SPHERIC test 2's coarse rung; the rows of the paper's correction are the
 default suite's and the partial iteration study's runs, copied (the same bits).
 """
-from ..rung import rung_error
 from . import default_coupled, default_fluid, hydrostatic_plate, spheric2
 from .partial_iteration import STEEL_GATE
-from .setting_studies import (deflection_cells, jet_cells, rest_pressure_cells, setting_rungs, setting_table,
-                              spheric2_cells, steel_gate_cells, with_steel_ringing)
+from .setting_studies import setting_rungs, setting_table, study_cells, with_steel_ringing
 
 CASE = "fixed_iterations"
 LEAST = 3
@@ -46,25 +44,6 @@ def _bases():
 
 def rungs():
     return setting_rungs(CASE, _bases(), SETTINGS)
-
-
-def _cells(base, s):
-    """The measure that the base rung is judged by, as a cell, and the measures beside it."""
-    if base.case == "rest_pressure":
-        return rest_pressure_cells(s, 2)
-    if base.case == "jet_on_wall":
-        return jet_cells(s)
-    if base.case == "antoci_static":
-        return deflection_cells(s, "tip_deflection_m", "tip_deflection_swing_m", 1)
-    if base.case == "hydrostatic_plate":
-        return deflection_cells(s, "midspan_deflection_m", "midspan_deflection_swing_m", 2)
-    if base.case == "steel_gate":
-        return steel_gate_cells(s)
-    if base.case == "antoci":
-        return (f"{100 * s['error']:.2f} %", f"peak {1e3 * s['tip_x_peak_m']:.1f} mm at {s['tip_x_peak_time_s']:.3f} s")
-    if base.case == "spheric2":
-        return spheric2_cells(s)
-    return f"{100 * rung_error(base, s):.2f} %", "-"
 
 
 READING = (
@@ -97,6 +76,7 @@ READING = (
 
 def table(out_dir, rungs, summaries):
     lines = setting_table(CASE, "## A fixed least number of correction iterations a step", __doc__, "iterations",
-                          rungs, with_steel_ringing(out_dir, rungs, summaries), {b.key: b for b, _ in _bases()}, _cells,
+                          rungs, with_steel_ringing(out_dir, rungs, summaries), {b.key: b for b, _ in _bases()},
+                          study_cells,
                           iterations=".2f", commit=True)
     return lines + ["", READING] if lines else []

@@ -14,10 +14,9 @@ error and cost, and a plane jet on a wall (the pressure of a steady flow without
 The rows without it are the default suite's and the studies' runs of the same physics (the same bits, checked on
 every scene), copied; the steel gate's are run here.
 """
-from ..rung import Rung, rung_error
+from ..rung import Rung
 from . import default_coupled, default_fluid, hydrostatic_plate, spheric2
-from .setting_studies import (deflection_cells, jet_cells, rest_pressure_cells, setting_rungs, setting_table,
-                              spheric2_cells)
+from .setting_studies import setting_rungs, setting_table, study_cells
 
 CASE = "partial_iteration"
 # (label, the fluid's keys, what it is)
@@ -47,23 +46,12 @@ def rungs():
 
 
 def _cells(base, s):
-    """The measure that the base rung is judged by, as a cell, and the measures beside it."""
-    if base.case == "rest_pressure":
-        return rest_pressure_cells(s, 2)
-    if base.case == "antoci_static":
-        return deflection_cells(s, "tip_deflection_m", "tip_deflection_swing_m", 1)
-    if base.case == "hydrostatic_plate":
-        return deflection_cells(s, "midspan_deflection_m", "midspan_deflection_swing_m", 2)
+    """The measure that the base rung is judged by, as a cell, and the measures beside it: the steel gate's peak and
+    end (this study's own), the rest as every setting study has them."""
     if base.case == "steel_gate":
         return (f"tip dx peak {1e6 * s['tip_dx_peak_m']:.3f} um at {s['tip_dx_peak_time_s']:.4f} s",
                 f"tip dx at the end {1e6 * s['tip_dx_end_m']:.3f} um")
-    if base.case == "antoci":
-        return (f"{100 * s['error']:.2f} %", f"peak {1e3 * s['tip_x_peak_m']:.1f} mm at {s['tip_x_peak_time_s']:.3f} s")
-    if base.case == "spheric2":
-        return spheric2_cells(s)
-    if base.case == "jet_on_wall":
-        return jet_cells(s)
-    return f"{100 * rung_error(base, s):.2f} %", "-"
+    return study_cells(base, s)
 
 
 READING = (

@@ -15,10 +15,9 @@ that resolves its mode (`fluid.time_step` 0.1 ms, five steps a period); the rows
 copied (the same bits). The steel gate's measure is its free end's standard deviation over 0.02-0.04 s (samples 1 ms
 apart) beside its mean there.
 """
-from ..rung import rung_error
 from . import default_coupled, hydrostatic_plate
 from .partial_iteration import STEEL_GATE
-from .setting_studies import deflection_cells, setting_rungs, setting_table, steel_gate_cells, with_steel_ringing
+from .setting_studies import setting_rungs, setting_table, study_cells, with_steel_ringing
 
 CASE = "push_ramp"
 LEAST = {"fluid.min_iterations": 3}
@@ -49,19 +48,6 @@ def rungs():
     return setting_rungs(CASE, _bases(), SETTINGS)
 
 
-def _cells(base, s):
-    """The measure that the base rung is judged by, as a cell, and the measures beside it."""
-    if base.case == "steel_gate":
-        return steel_gate_cells(s)
-    if base.case == "antoci_static":
-        return deflection_cells(s, "tip_deflection_m", "tip_deflection_swing_m", 1)
-    if base.case == "hydrostatic_plate":
-        return deflection_cells(s, "midspan_deflection_m", "midspan_deflection_swing_m", 2)
-    if base.case == "antoci":
-        return (f"{100 * s['error']:.2f} %", f"peak {1e3 * s['tip_x_peak_m']:.1f} mm at {s['tip_x_peak_time_s']:.3f} s")
-    return f"{100 * rung_error(base, s):.2f} %", "-"
-
-
 READING = (
     "Reading it. Ramped, the push takes the steel gate's ringing down 4-5 fold at the 0.5 ms fluid step (its free "
     "end's swing 0.097 against 0.521 um under the paper's correction, 0.057 against 0.222 um with 3 iterations at "
@@ -81,6 +67,7 @@ READING = (
 
 def table(out_dir, rungs, summaries):
     lines = setting_table(CASE, "## The push ramped over the solid's sub-steps", __doc__, "setting", rungs,
-                          with_steel_ringing(out_dir, rungs, summaries), {b.key: b for b, _ in _bases()}, _cells,
+                          with_steel_ringing(out_dir, rungs, summaries), {b.key: b for b, _ in _bases()},
+                          study_cells,
                           iterations=".2f", commit=True)
     return lines + ["", READING] if lines else []

@@ -6,6 +6,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..report_tools import fmt, series_rows
+from ..rung import rung_error
 
 
 def setting_rungs(case, bases, settings):
@@ -122,3 +123,29 @@ def steel_gate_cells(s):
     return (f"swing {1e6 * ringing['std_m']:.3f} um, {100 * ringing['std_m'] / abs(ringing['mean_m']):.0f} % of "
             f"its mean", f"mean {1e6 * ringing['mean_m']:+.3f} um (the mean push {ringing['push_n']:+.3f} N spread "
             f"evenly: {1e6 * static:.3f} um), {STEEL_WINDOW_S[0]:g}-{STEEL_WINDOW_S[1]:g} s")
+
+
+def antoci_cells(s):
+    """Antoci's gate released: the free end's RMS against the measured curve, and its peak beside."""
+    return f"{100 * s['error']:.2f} %", f"peak {1e3 * s['tip_x_peak_m']:.1f} mm at {s['tip_x_peak_time_s']:.3f} s"
+
+
+def study_cells(base, s):
+    """The cells of a setting study's row by its base rung's case: the measure it is judged by, and what is beside it
+    (the water at rest to 2 decimals, the solids at rest, the steel gate, Antoci's gate, SPHERIC, the jet; else its
+    error)."""
+    if base.case == "rest_pressure":
+        return rest_pressure_cells(s, 2)
+    if base.case == "jet_on_wall":
+        return jet_cells(s)
+    if base.case == "antoci_static":
+        return deflection_cells(s, "tip_deflection_m", "tip_deflection_swing_m", 1)
+    if base.case == "hydrostatic_plate":
+        return deflection_cells(s, "midspan_deflection_m", "midspan_deflection_swing_m", 2)
+    if base.case == "steel_gate":
+        return steel_gate_cells(s)
+    if base.case == "antoci":
+        return antoci_cells(s)
+    if base.case == "spheric2":
+        return spheric2_cells(s)
+    return f"{100 * rung_error(base, s):.2f} %", "-"
