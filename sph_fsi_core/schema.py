@@ -250,6 +250,12 @@ FLUID = [
        "The correction's last iteration taken only in the part that brings the compression to the tolerance, so a "
        "step's work, and the pressure the water reads, changes continuously rather than by whole iterations (false: "
        "the paper's; docs/method.md)", kind="bool", rebuild=False),
+    _p("fluid.shifting", 0.0, "1",
+       "A of the shift that moves the water after each step down its particles' concentration gradient, "
+       "dr = -A h U dt grad C, none in the free surface's band (0: none, the paper's; fluid/shifting.py, "
+       "docs/method.md)", low=0.0, high=2.0),
+    _p("fluid.shifting_speed", "largest", "", "U of the shift: the water's largest speed (Xu et al. 2009) or each "
+       "particle's own (Lind et al. 2012)", kind="str", choices=("largest", "own")),
     _p("fluid.correction_coefficient", 0.0, "m/s",
        "c of eq. (7), how far one correction moves a particle (0: automatic, c = correction_kappa * h / dt)",
        low=0.0, high=1.0e4, rebuild=False),

@@ -59,6 +59,7 @@ class FluidPhase:
         """The energy budget's zero (the clock's start): the potential energy now, and no losses yet."""
         self.correction_loss = 0.0     # J, the mechanical energy the steps' corrections took since t = 0
         self.viscous_loss = 0.0        # J, the viscous term's
+        self.shifting_loss = 0.0       # J, the shift's (fluid.shifting)
         self.potential_at_start = self.energies()[1]
 
     def energies(self):
@@ -85,7 +86,8 @@ class FluidPhase:
                         tolerance=v["fluid.density_tolerance"], tolerance_on=v["fluid.tolerance_on"],
                         coefficient=v["fluid.correction_coefficient"], kappa=v["fluid.correction_kappa"],
                         min_iterations=v["fluid.min_iterations"], max_iterations=v["fluid.max_iterations"],
-                        partial=v["fluid.partial_iteration"])
+                        partial=v["fluid.partial_iteration"], shifting=v["fluid.shifting"],
+                        shifting_speed=v["fluid.shifting_speed"], spacing=v["numerics.spacing"])
         forced = v["fluid.time_step"]
         if forced > 0.0:
             limit = min(self.solver.stable_dt(v["fluid.cfl"], nu=settings["nu"], gravity=settings["gravity"]),
@@ -183,6 +185,7 @@ class FluidPhase:
             self.capped_steps += 1
         self.correction_loss += report.correction_loss
         self.viscous_loss += report.viscous_loss
+        self.shifting_loss += report.shifting_loss
         return report
 
     def settle(self, duration, follow_solid):
@@ -296,6 +299,7 @@ class FluidPhase:
         return {"fluid_dt": self.last_dt, "fluid_substeps": self.last_substeps, **stats,
                 "fluid_potential_energy": self.energies()[1] - self.potential_at_start,
                 "fluid_correction_loss": self.correction_loss, "fluid_viscous_loss": self.viscous_loss,
+                **({"fluid_shifting_loss": self.shifting_loss} if self.values["fluid.shifting"] > 0.0 else {}),
                 **dict(zip(("fluid_velocity_x", "fluid_velocity_y", "fluid_velocity_z"),
                            (float(u) for u in self.mean_velocity()))),
                 **dict(zip(("fluid_momentum_x", "fluid_momentum_y", "fluid_momentum_z"),

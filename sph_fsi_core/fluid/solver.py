@@ -7,6 +7,7 @@ One step of size dt:
              p = c^2 (rho - rho0)_+  (7);  r* += dt^2 dv/dt of eq. (2)    (one correction iteration)
     r(t+dt) = r*;  v* = (r(t+dt) - r(t)) / dt                          (eq. (8))
     v = v* + dt (viscous term of eq. (9), Morris form)
+    r(t+dt) += the shift towards an even arrangement (fluid.shifting > 0 only; fluid/shifting.py)
 
 Convergence: the compression (rho - rho0)_+ / rho0 is measured as its maximum and its mean over the fluid; the
 one named by fluid.tolerance_on must be at most fluid.density_tolerance (the paper: 1 %), after at least
@@ -37,6 +38,7 @@ import numpy as np
 from .energy import mechanical_energy
 from .okaji import (FLUID_BLOCK_COLUMNS, compression_error, gravity_and_predictor, summation_density,
                     velocity_from_displacement, viscous_velocity, wall_pressure, wrap_periodic)
+from .shifting import concentration, shift_positions, surface_neighbours
 from .stepper import (CAPPED, NEEDS_REBUILD, CorrectionParams, FluidArrays, FluidBuffers, FluidNeighbours,
                       FluidWalls, correction_loop)
 from .wall_forces import wall_group_forces
@@ -58,6 +60,8 @@ class StepReport(NamedTuple):
     rebuilds: int
     correction_loss: float = 0.0
     viscous_loss: float = 0.0
+    shifting_loss: float = 0.0    # J, the potential energy the shift took (fluid.shifting; it keeps the velocities)
+    largest_shift: float = 0.0    # m
 
 
 class FluidSolver:
@@ -111,12 +115,18 @@ class FluidSolver:
         self.partial = False
         self.last_p = np.zeros(n)          # the last iteration's pressures (fluid.partial_iteration)
         self.error_before = np.zeros(2)    # and the (max, mean) compression before it
+        self.shifting = 0.0                # fluid.shifting's A (0: none)
+        self.shift_own_speed = False
+        self.spacing = self.h
+        self.shift_work = None             # (C, conc, grad, surface count), made at the first shift
         self.rebuild()
         self.density()
 
     def configure(self, rho0, nu, gravity, tolerance, tolerance_on, coefficient, kappa, min_iterations,
-                  max_iterations, partial=False):
+                  max_iterations, partial=False, shifting=0.0, shifting_speed="largest", spacing=None):
         self.partial = bool(partial)
+        self.shifting, self.shift_own_speed = float(shifting), shifting_speed == "own"
+        self.spacing = float(spacing) if spacing is not None else self.h
         self.rho0, self.nu = float(rho0), float(nu)
         self.gravity = tuple(float(g) for g in gravity)
         self.tolerance = float(tolerance)
@@ -270,7 +280,25 @@ class FluidSolver:
                              self.vel_work)
             fl.vel[:] = self.vel_work
             viscous_loss = kinetic - mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz)[0]
+        shifting_loss, largest_shift = 0.0, 0.0
+        if self.shifting > 0.0:
+            largest_shift = self.shift(dt)
+            shifting_loss = potential - mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz)[1]
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)
         return StepReport(dt, it, emax, emean, status == CAPPED, rebuilds, energy_before - kinetic - potential,
-                          viscous_loss)
+                          viscous_loss, shifting_loss, largest_shift)
+
+    def shift(self, dt):
+        """The step's shift (fluid/shifting.py) over the lists the step left (valid at its positions); returns the
+        largest move (m)."""
+        fl = self.fluid
+        n = len(fl.pos)
+        if self.shift_work is None:
+            self.shift_work = (np.zeros(n), np.zeros((n, 3)), np.zeros(n))
+        conc, grad, surface = self.shift_work
+        neighbours = self.neighbours()
+        concentration(fl.pos, fl.mass, self.wall_pos, self.wall_mass, neighbours, self.h, self.rho0, self.spacing,
+                      self.kernel, self.density_buf, self.buf, conc, grad)
+        surface_neighbours(fl.pos, conc, neighbours, self.h, self.density_buf, surface)
+        return shift_positions(fl.pos, fl.vel, conc, grad, surface, self.shifting, self.h, dt, self.shift_own_speed)

@@ -13,7 +13,7 @@ page under docs/validation/studies/).
 """
 from . import (antoci_stiffness, antoci_tank, cantilever, cantilever_shapes, clamp_effect, default_coupled,
                default_fluid, default_solid, fixed_iterations, fluid, gate, gate_default, gate_span, gate_static,
-               hydrostatic_plate, kernel, large_deflection, partial_iteration, pressure_tolerance, push_ramp,
+               hydrostatic_plate, kernel, large_deflection, partial_iteration, pressure_tolerance, push_ramp, shifting,
                solid_pressure, solid_static, spheric2, volumetric_gradient, water_lattice)
 
 # The default suite, in the order of the report's headline table: the solid alone, the water alone, then both.
@@ -23,14 +23,15 @@ CASES = (default_solid, default_fluid, spheric2, default_coupled)
 # (`sph-fsi validate gate_span --out docs/validation/studies/gate_span`).
 STUDIES = (cantilever, cantilever_shapes, large_deflection, solid_static, clamp_effect, hydrostatic_plate, fluid, gate,
            gate_default, gate_static, solid_pressure, volumetric_gradient, gate_span, antoci_stiffness,
-           pressure_tolerance, partial_iteration, water_lattice, kernel, fixed_iterations, push_ramp, antoci_tank)
+           pressure_tolerance, partial_iteration, water_lattice, kernel, fixed_iterations, push_ramp, antoci_tank,
+           shifting)
 
 # The order of the pages' sections and plots (each module's table and plot pick their own rungs); among the studies,
 # gate_static's table comes before the fluid's (the committed pages keep their layout).
 SECTIONS = (default_solid, default_fluid, spheric2, default_coupled, cantilever, cantilever_shapes, large_deflection,
             solid_static, clamp_effect, hydrostatic_plate, gate_static, fluid, gate, gate_default, solid_pressure,
             volumetric_gradient, gate_span, antoci_stiffness, pressure_tolerance, partial_iteration, water_lattice,
-            kernel, fixed_iterations, push_ramp, antoci_tank)
+            kernel, fixed_iterations, push_ramp, antoci_tank, shifting)
 
 # Names that select several cases at once.
 CASE_GROUPS = {"gate": ("antoci_gate", "elastic_gate"), "standing_wave": ("standing_wave", "standing_wave_loss")}

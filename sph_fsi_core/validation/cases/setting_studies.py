@@ -125,6 +125,13 @@ def steel_gate_cells(s):
             f"evenly: {1e6 * static:.3f} um), {STEEL_WINDOW_S[0]:g}-{STEEL_WINDOW_S[1]:g} s")
 
 
+def standing_wave_cells(s):
+    """A small standing wave's cells: the amplitude it loses a period, and its frequency's error beside."""
+    j = s["judges"]
+    return (f"loss {100 * j['loss']['error']:.1f} % a period",
+            f"frequency {100 * j['period']['error_signed']:+.1f} % against linear theory")
+
+
 def antoci_cells(s):
     """Antoci's gate released: the free end's RMS against the measured curve, and its peak beside."""
     return f"{100 * s['error']:.2f} %", f"peak {1e3 * s['tip_x_peak_m']:.1f} mm at {s['tip_x_peak_time_s']:.3f} s"
@@ -132,8 +139,8 @@ def antoci_cells(s):
 
 def study_cells(base, s):
     """The cells of a setting study's row by its base rung's case: the measure it is judged by, and what is beside it
-    (the water at rest to 2 decimals, the solids at rest, the steel gate, Antoci's gate, SPHERIC, the jet; else its
-    error)."""
+    (the water at rest to 2 decimals, the solids at rest, the steel gate, Antoci's gate, SPHERIC, the jet, the standing
+    wave; else its error)."""
     if base.case == "rest_pressure":
         return rest_pressure_cells(s, 2)
     if base.case == "jet_on_wall":
@@ -148,4 +155,6 @@ def study_cells(base, s):
         return antoci_cells(s)
     if base.case == "spheric2":
         return spheric2_cells(s)
+    if base.case.startswith("standing_wave"):
+        return standing_wave_cells(s)
     return f"{100 * rung_error(base, s):.2f} %", "-"
