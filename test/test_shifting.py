@@ -32,14 +32,14 @@ def _solver(fluid, walls, period, shifting=0.5, speed="largest", gravity=(0.0, 0
     return s
 
 
-def _water_on_a_floor(jitter=0.05, seed=1):
-    """An 8 x 6 x 8 block of water on a floor three layers deep, periodic along y (6 dp), free above and at its
+def _water_on_a_floor(jitter=0.05, seed=1, nx=8, nz=8):
+    """An nx x 6 x nz block of water on a floor three layers deep, periodic along y (6 dp), free above and at its
     ends along x; jittered by `jitter` dp; moving at 1 m/s along x with a shear on top (0-0.5 m/s)."""
-    water = lattice(8, 6, 8)
+    water = lattice(nx, 6, nz)
     water += np.random.default_rng(seed).normal(0.0, jitter * DP, water.shape)
     fluid = FluidState.at_rest(water, RHO0, DP, mass_scale=lattice_density_scale(RATIO))
-    fluid.vel[:, 0] = 1.0 + 0.5 * fluid.pos[:, 2] / (8 * DP)
-    floor = lattice(12, 6, 3, offset=(-2 * DP, 0.0, -3 * DP))
+    fluid.vel[:, 0] = 1.0 + 0.5 * fluid.pos[:, 2] / (nz * DP)
+    floor = lattice(nx + 4, 6, 3, offset=(-2 * DP, 0.0, -3 * DP))
     walls = SimpleNamespace(pos=floor, mass=np.full(len(floor), RHO0 * DP ** 3 * lattice_density_scale(RATIO)))
     return fluid, walls, np.array([0.0, 6 * DP, 0.0])
 
@@ -89,40 +89,36 @@ def test_the_shift_is_the_brute_force_sums_and_leaves_the_free_surface_s_band(sp
     assert np.array_equal(fluid.vel[:, 1:], np.zeros((len(conc), 2)))
 
 
-def _periodic_block(n, jitter, seed=0):
-    pos = lattice(n, n, n)
-    if jitter:
-        pos += np.random.default_rng(seed).normal(0.0, jitter * DP, pos.shape)
-    fluid = FluidState.at_rest(pos, RHO0, DP, mass_scale=lattice_density_scale(RATIO))
-    fluid.vel[:, 0] = 1.0
-    return fluid, np.full(3, n * DP)
-
-
 def test_a_lattice_is_left_as_it_is():
-    """In a periodic block on the lattice every particle's grad C cancels (by symmetry): moving at 1 m/s, it is
-    shifted by less than 1e-12 dp."""
-    fluid, period = _periodic_block(8, 0.0)
-    s = _solver(fluid, None, period, shifting=2.0)
+    """Water on its floor's lattice: every particle outside the free surface's band has a full kernel of water and
+    floor on one lattice, and its grad C cancels by symmetry; moving at 1-1.5 m/s, it is shifted by less than
+    1e-12 dp."""
+    fluid, walls, period = _water_on_a_floor(jitter=0.0, nx=14, nz=12)
+    _, _, band = _brute_force(fluid.pos, fluid.mass, walls.pos, walls.mass, period[1])
+    assert (~band).sum() >= 60
+    s = _solver(fluid, walls, period, shifting=2.0)
     assert s.shift(1.0e-3) < 1e-12 * DP
 
 
-def test_a_jittered_lattice_is_evened_and_its_momentum_kept():
-    """A periodic block jittered by 0.1 dp: 50 shifts at A = 2 (U dt = 0.2 h each, the advection limit's step)
-    take the spread of its particles' concentration down by more than half; the velocities are not touched."""
-    fluid, period = _periodic_block(8, 0.1)
-    s = _solver(fluid, None, period, shifting=2.0)
+def test_a_jittered_lattice_is_evened_and_its_velocities_kept():
+    """The same water jittered by 0.1 dp: 50 shifts at A = 2 (U dt = 0.2 h each, the advection limit's step) take
+    the spread of the concentration of the particles outside the band down five-fold at least (0.030 to 0.003
+    measured); the velocities are not touched."""
+    fluid, walls, period = _water_on_a_floor(jitter=0.1, nx=14, nz=12)
+    inside = ~_brute_force(fluid.pos, fluid.mass, walls.pos, walls.mass, period[1])[2]
+    s = _solver(fluid, walls, period, shifting=2.0)
     vel = fluid.vel.copy()
-    dt = 0.2 * H / 1.0
+    dt = 0.2 * H / np.linalg.norm(vel, axis=1).max()
     s.shift(dt)
-    spread_before = s.shift_work[0].std()
+    spread_before = s.shift_work[0][inside].std()
     for _ in range(50):
         if s.fluid_neighbours.is_stale(fluid.pos, fluid.pos):
             s.rebuild()
         s.shift(dt)
     s.shift(0.0)   # the concentration at the end
-    spread_after = s.shift_work[0].std()
+    spread_after = s.shift_work[0][inside].std()
     assert spread_before > 0.01
-    assert spread_after < 0.5 * spread_before
+    assert spread_after < 0.2 * spread_before
     assert np.array_equal(fluid.vel, vel)
 
 
