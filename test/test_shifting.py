@@ -1,7 +1,6 @@
 """Particle shifting (fluid/shifting.py, fluid.shifting): the concentration and its gradient against brute-force
 sums, the free surface's band left in place, a lattice left as it is, a jittered one evened, and the energy the
 shift moves booked in the step's budget."""
-import math
 from types import SimpleNamespace
 
 import numpy as np
@@ -73,7 +72,7 @@ def test_the_shift_is_the_brute_force_sums_and_leaves_the_free_surface_s_band(sp
     conc, grad, band = _brute_force(before, fluid.mass, walls.pos, walls.mass, period[1])
     dt = 1.0e-4
     largest = s.shift(dt)
-    got_conc, got_grad, _ = s.shift_work
+    got_conc, got_grad = s.shift_work[:2]
     assert got_conc == pytest.approx(conc, rel=1e-12, abs=1e-12)
     assert np.abs(got_grad - grad).max() < 1e-12 * np.abs(grad).max()
     # the block's top layers, its ends and its bottom near the floor's edge are in the band, its core is not
@@ -144,4 +143,3 @@ def test_the_energy_budget_books_the_shift_s_potential_energy():
         shifted += abs(report.shifting_loss)
     assert energy() + taken == pytest.approx(start, abs=1e-9 * scale)
     assert shifted > 1e-6 * scale
-    assert not math.isnan(taken)

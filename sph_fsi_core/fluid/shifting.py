@@ -24,7 +24,6 @@ given to both through per-chunk buffers; the minimum image only where `crossing`
 """
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from ..numerics.kernels import kernel_sigma, kernel_w, kernel_wf, support_squared
@@ -201,10 +200,10 @@ def _surface_neighbours(pos, conc, neighbours, h, count_buf, count, xz_periodic)
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", parallel=True, nogil=True)
-def shift_positions(pos, vel, conc, grad, surface_count, coefficient, h, dt, own_speed):
+def shift_positions(pos, vel, conc, grad, surface_count, coefficient, h, dt, own_speed, moved2):
     """The module docstring's dr_a = -A h U dt grad C_a, added to pos, except in the free surface's band (conc,
     grad: concentration's; surface_count: surface_neighbours'); U the largest |v| of the water or, with
-    `own_speed`, the particle's own. Returns the largest |dr_a| (m)."""
+    `own_speed`, the particle's own. Returns the largest |dr_a| (m); moved2 (N,) is its scratch, |dr_a|^2."""
     n = pos.shape[0]
     largest_speed2 = 0.0
     if not own_speed:
@@ -214,8 +213,8 @@ def shift_positions(pos, vel, conc, grad, surface_count, coefficient, h, dt, own
                 largest_speed2 = s2
     scale = coefficient * h * dt
     largest_speed = math.sqrt(largest_speed2)
-    moved2 = np.zeros(n)
     for a in prange(n):
+        moved2[a] = 0.0
         gx, gy, gz = grad[a, 0], grad[a, 1], grad[a, 2]
         g2 = gx * gx + gy * gy + gz * gz
         # SURFACE_CONCENTRATION < BAND_CONCENTRATION: a surface particle is in its own band

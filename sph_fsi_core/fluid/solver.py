@@ -61,7 +61,6 @@ class StepReport(NamedTuple):
     correction_loss: float = 0.0
     viscous_loss: float = 0.0
     shifting_loss: float = 0.0    # J, the potential energy the shift took (fluid.shifting; it keeps the velocities)
-    largest_shift: float = 0.0    # m
 
 
 class FluidSolver:
@@ -118,7 +117,7 @@ class FluidSolver:
         self.shifting = 0.0                # fluid.shifting's A (0: none)
         self.shift_own_speed = False
         self.spacing = self.h
-        self.shift_work = None             # (C, conc, grad, surface count), made at the first shift
+        self.shift_work = None             # (conc, grad, surface count, squared move), made at the first shift
         self.rebuild()
         self.density()
 
@@ -280,14 +279,14 @@ class FluidSolver:
                              self.vel_work)
             fl.vel[:] = self.vel_work
             viscous_loss = kinetic - mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz)[0]
-        shifting_loss, largest_shift = 0.0, 0.0
+        shifting_loss = 0.0
         if self.shifting > 0.0:
-            largest_shift = self.shift(dt)
+            self.shift(dt)
             shifting_loss = potential - mechanical_energy(fl.pos, fl.vel, fl.mass, gx, gy, gz)[1]
         if self.period.any():
             wrap_periodic(fl.pos, self.period, self.box_lo)
         return StepReport(dt, it, emax, emean, status == CAPPED, rebuilds, energy_before - kinetic - potential,
-                          viscous_loss, shifting_loss, largest_shift)
+                          viscous_loss, shifting_loss)
 
     def shift(self, dt):
         """The step's shift (fluid/shifting.py) over the lists the step left (valid at its positions); returns the
@@ -295,10 +294,11 @@ class FluidSolver:
         fl = self.fluid
         n = len(fl.pos)
         if self.shift_work is None:
-            self.shift_work = (np.zeros(n), np.zeros((n, 3)), np.zeros(n))
-        conc, grad, surface = self.shift_work
+            self.shift_work = (np.zeros(n), np.zeros((n, 3)), np.zeros(n), np.zeros(n))
+        conc, grad, surface, moved2 = self.shift_work
         neighbours = self.neighbours()
         concentration(fl.pos, fl.mass, self.wall_pos, self.wall_mass, neighbours, self.h, self.rho0, self.spacing,
                       self.kernel, self.density_buf, self.buf, conc, grad)
         surface_neighbours(fl.pos, conc, neighbours, self.h, self.density_buf, surface)
-        return shift_positions(fl.pos, fl.vel, conc, grad, surface, self.shifting, self.h, dt, self.shift_own_speed)
+        return shift_positions(fl.pos, fl.vel, conc, grad, surface, self.shifting, self.h, dt, self.shift_own_speed,
+                               moved2)

@@ -18,7 +18,7 @@ default suite's and the partial iteration study's runs, copied (the same bits).
 """
 from . import default_coupled, default_fluid, hydrostatic_plate, spheric2
 from .partial_iteration import STEEL_GATE
-from .setting_studies import setting_rungs, setting_table, study_cells, with_steel_ringing
+from .setting_studies import bases_by_key, setting_rungs, setting_table, study_cells, with_steel_ringing
 
 CASE = "fixed_iterations"
 LEAST = 3
@@ -37,9 +37,8 @@ BASES = (("rest_pressure/H_over_dp_20", EVERY), ("rest_pressure/H_over_dp_40", E
 
 
 def _bases():
-    every = {r.key: r for r in default_fluid.rungs() + default_coupled.rungs() + hydrostatic_plate.rungs()
-             + spheric2.rungs() + [STEEL_GATE]}
-    return [(every[key], labels) for key, labels in BASES]
+    return bases_by_key(default_fluid.rungs() + default_coupled.rungs() + hydrostatic_plate.rungs()
+                        + spheric2.rungs() + [STEEL_GATE], BASES)
 
 
 def rungs():

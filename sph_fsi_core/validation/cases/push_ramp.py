@@ -17,7 +17,7 @@ apart) beside its mean there.
 """
 from . import default_coupled, hydrostatic_plate
 from .partial_iteration import STEEL_GATE
-from .setting_studies import setting_rungs, setting_table, study_cells, with_steel_ringing
+from .setting_studies import bases_by_key, setting_rungs, setting_table, study_cells, with_steel_ringing
 
 CASE = "push_ramp"
 LEAST = {"fluid.min_iterations": 3}
@@ -40,8 +40,7 @@ BASES = (("steel_gate/E_2e11", EVERY), ("hydrostatic_plate/small_t_over_dp_4", P
 
 
 def _bases():
-    every = {r.key: r for r in default_coupled.rungs() + hydrostatic_plate.rungs() + [STEEL_GATE]}
-    return [(every[key], labels) for key, labels in BASES]
+    return bases_by_key(default_coupled.rungs() + hydrostatic_plate.rungs() + [STEEL_GATE], BASES)
 
 
 def rungs():

@@ -17,6 +17,12 @@ def setting_rungs(case, bases, settings):
             for base, labels in bases for label, keys, what in settings if label in labels]
 
 
+def bases_by_key(pool, bases):
+    """(rung, the settings' labels) for each (key, labels) of `bases`, the rung the one of `pool` with that key."""
+    every = {r.key: r for r in pool}
+    return [(every[key], labels) for key, labels in bases]
+
+
 def setting_table(case, heading, doc, column, rungs, summaries, bases, cells, iterations=".1f", commit=False):
     """The study's section: `heading`, the module docstring `doc`'s text after its first paragraph, and a row per run
     of `case` among `rungs`: its base rung's key (`bases`: {key: rung}), its setting (the `column`), the

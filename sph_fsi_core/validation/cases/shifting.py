@@ -18,7 +18,7 @@ shifted by its own speed (Lind et al. 2012's form): a sensitivity study of the c
 from . import default_coupled, default_fluid, hydrostatic_plate, spheric2
 from .fixed_iterations import LEAST
 from .partial_iteration import STEEL_GATE
-from .setting_studies import setting_rungs, setting_table, study_cells, with_steel_ringing
+from .setting_studies import bases_by_key, setting_rungs, setting_table, study_cells, with_steel_ringing
 
 CASE = "shifting"
 MIN = {"fluid.min_iterations": LEAST}
@@ -45,9 +45,8 @@ BASES = (("rest_pressure/H_over_dp_20", PAIR), ("rest_pressure/H_over_dp_40", PA
 
 
 def _bases():
-    every = {r.key: r for r in default_fluid.rungs() + default_coupled.rungs() + hydrostatic_plate.rungs()
-             + spheric2.rungs() + [STEEL_GATE]}
-    return [(every[key], labels) for key, labels in BASES]
+    return bases_by_key(default_fluid.rungs() + default_coupled.rungs() + hydrostatic_plate.rungs()
+                        + spheric2.rungs() + [STEEL_GATE], BASES)
 
 
 def rungs():
